@@ -1,0 +1,254 @@
+"""Keyword arguments of the rov_envs tasks, checked and resolved into an :class:`EnvConfig`.
+
+Every bad value raises ``ValueError`` naming the argument, the bad value and what is allowed.
+The same configuration drives the single environment and the batched one, so both see exactly
+the same task.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
+from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
+
+#: Control period (s): one environment step, the physics' default (0.2 s, 4 RK4 substeps).
+CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
+#: Reference speed (m/s) for the default time limit and the progress reward.
+U_REF = 1.0
+#: Default time limit = TIME_LIMIT_FACTOR * (path arc length / U_REF).
+TIME_LIMIT_FACTOR = 2.0
+#: Sonar defaults (CONTRACTS.md): span pi centred ahead, 9 sectors, 25 m range.
+SONAR_SPAN = math.pi
+SONAR_SECTORS = 9
+SONAR_RANGE = 25.0
+#: Success radius around the target point (m), used besides the along-path progress test.
+TARGET_RADIUS = 2.0
+#: The largest number of sonar sectors accepted.
+MAX_SECTORS = 360
+
+
+def _bad(name: str, value: Any, allowed: str) -> ValueError:
+    return ValueError(f"{name}={value!r} is not allowed: expected {allowed}")
+
+
+def _finite_float(name: str, value: Any, allowed: str) -> float:
+    if isinstance(value, bool):
+        raise _bad(name, value, allowed)
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise _bad(name, value, allowed) from None
+    if not math.isfinite(out):
+        raise _bad(name, value, allowed)
+    return out
+
+
+def _pair(name: str, value: Any, allowed: str, nonneg: bool = False) -> tuple[float, float]:
+    try:
+        seq = tuple(value)
+    except TypeError:
+        raise _bad(name, value, allowed) from None
+    if len(seq) != 2:
+        raise _bad(name, value, allowed)
+    out = tuple(_finite_float(name, v, allowed) for v in seq)
+    if nonneg and min(out) < 0:
+        raise _bad(name, value, allowed)
+    return out  # type: ignore[return-value]
+
+
+def sine_arc_length(length: float, amplitude: float, wavelength: float) -> float:
+    """Arc length of y = amplitude * sin(2 pi x / wavelength) for 0 <= x <= length (m)."""
+    x = np.linspace(0.0, length, 20001)
+    dy = amplitude * 2.0 * math.pi / wavelength * np.cos(2.0 * math.pi * x / wavelength)
+    f = np.sqrt(1.0 + dy * dy)
+    return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(x)))
+
+
+@dataclass(frozen=True)
+class EnvConfig:
+    """A task with every keyword argument resolved (see :func:`make_config`)."""
+
+    task: TaskSpec
+    length: float
+    amplitude: float
+    wavelength: float
+    obstacles: np.ndarray | None  # custom fixed layout (M, 3), or None for the task's layout
+    current: tuple[float, float]
+    sonar_noise: float
+    start_noise: tuple[float, float]
+    sonar_sectors: int
+    sonar_span: float
+    sonar_range: float
+    continuous: bool
+    max_episode_seconds: float
+    render_mode: str | None
+    dt: float = CONTROL_PERIOD
+
+    @property
+    def path_length(self) -> float:
+        """Arc length of the path (m)."""
+        if self.task.path_kind == PATH_SINE:
+            return sine_arc_length(self.length, self.amplitude, self.wavelength)
+        return self.length
+
+    @property
+    def max_steps(self) -> int:
+        return max(1, int(math.ceil(self.max_episode_seconds / self.dt - 1e-9)))
+
+    @property
+    def target(self) -> tuple[float, float]:
+        if self.task.path_kind == PATH_SINE:
+            k = 2.0 * math.pi / self.wavelength
+            return (self.length, self.amplitude * math.sin(k * self.length))
+        return (self.length, 0.0)
+
+    @property
+    def has_sonar(self) -> bool:
+        return self.task.sonar
+
+    def fixed_obstacles(self) -> np.ndarray | None:
+        """The layout when it does not change between episodes, else None."""
+        if self.obstacles is not None:
+            return self.obstacles
+        if self.task.layout == "none":
+            return np.zeros((0, 3))
+        if self.task.layout == "fixed":
+            return np.asarray(self.task.obstacles, dtype=np.float64).reshape(-1, 3)
+        return None
+
+
+def _obstacles(value: Any) -> np.ndarray:
+    allowed = "a sequence of (x, y, radius) triples of finite floats with radius > 0"
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise _bad("obstacles", value, allowed) from None
+    if arr.size == 0:
+        return np.zeros((0, 3))
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise _bad("obstacles", value, allowed)
+    if not np.all(np.isfinite(arr)) or np.any(arr[:, 2] <= 0):
+        raise _bad("obstacles", value, allowed)
+    start_d = np.hypot(arr[:, 0], arr[:, 1]) - arr[:, 2]
+    if np.any(start_d <= 2.0):
+        raise _bad(
+            "obstacles",
+            value,
+            "no obstacle surface within 2 m of the start point (0, 0) (that is a collision)",
+        )
+    return arr.copy()
+
+
+def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
+    """Check the keyword arguments of task ``task_name`` and resolve the defaults.
+
+    Arguments (all optional):
+        obstacles: ``[(x, y, radius), ...]`` in metres: a custom fixed layout replacing the task's.
+        current: ``(vx, vy)`` world-frame water velocity in m/s (default ``(0, 0)``), |v| <= 2.
+        sonar_noise: std (m) of Gaussian noise on each sonar return (default 0).
+        start_noise: ``(position_std_m, heading_std_rad)`` of the Gaussian start-pose
+            perturbation (default ``(0, 0)``).
+        length: path length along x (m); amplitude, wavelength: sine path shape (m).
+        sonar_sectors (q, default 9), sonar_span (S, rad, default pi), sonar_range (m, default 25).
+        continuous: Box(-1, 1, (2,)) (surge, yaw) actions instead of Discrete(5).
+        max_episode_seconds: time limit in simulated seconds (default: twice the path's arc
+            length at 1 m/s).
+        render_mode: None or ``"rgb_array"``.
+    """
+    if task_name not in TASKS:
+        raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
+    task = TASKS[task_name]
+    known = {
+        "obstacles",
+        "current",
+        "sonar_noise",
+        "start_noise",
+        "length",
+        "amplitude",
+        "wavelength",
+        "sonar_sectors",
+        "sonar_span",
+        "sonar_range",
+        "continuous",
+        "max_episode_seconds",
+        "render_mode",
+    }
+    unknown = sorted(set(kwargs) - known)
+    if unknown:
+        raise ValueError(
+            f"{unknown[0]}={kwargs[unknown[0]]!r} is not allowed: unknown argument; "
+            f"expected one of {sorted(known)}"
+        )
+    min_len = 60.0 if task.layout not in ("none", "fixed") else 10.0
+    length = _finite_float("length", kwargs.get("length", task.length), f"a float >= {min_len}")
+    if length < min_len or length > 10000.0:
+        raise _bad("length", length, f"a float in [{min_len}, 10000] (m)")
+    amplitude = _finite_float(
+        "amplitude", kwargs.get("amplitude", task.amplitude), "a float in [0, 50] (m)"
+    )
+    if not 0.0 <= amplitude <= 50.0:
+        raise _bad("amplitude", amplitude, "a float in [0, 50] (m)")
+    wavelength = _finite_float(
+        "wavelength", kwargs.get("wavelength", task.wavelength), "a float >= 20"
+    )
+    if wavelength < 20.0:
+        raise _bad("wavelength", wavelength, "a float >= 20 (m)")
+    obstacles = kwargs.get("obstacles")
+    obstacles = None if obstacles is None else _obstacles(obstacles)
+    current = _pair("current", kwargs.get("current", (0.0, 0.0)), "(vx, vy) finite floats in m/s")
+    if math.hypot(*current) > 2.0:
+        raise _bad("current", kwargs["current"], "(vx, vy) with speed <= 2 m/s")
+    sonar_noise = _finite_float(
+        "sonar_noise", kwargs.get("sonar_noise", 0.0), "a finite float >= 0 (m)"
+    )
+    if sonar_noise < 0:
+        raise _bad("sonar_noise", sonar_noise, "a finite float >= 0 (m)")
+    start_noise = _pair(
+        "start_noise",
+        kwargs.get("start_noise", (0.0, 0.0)),
+        "(position_std_m, heading_std_rad), both finite and >= 0",
+        nonneg=True,
+    )
+    q = kwargs.get("sonar_sectors", SONAR_SECTORS)
+    if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or not 1 <= q <= MAX_SECTORS:
+        raise _bad("sonar_sectors", q, f"an int in [1, {MAX_SECTORS}]")
+    span = _finite_float("sonar_span", kwargs.get("sonar_span", SONAR_SPAN), "a float in (0, 2 pi]")
+    if not 0.0 < span <= 2.0 * math.pi + 1e-12:
+        raise _bad("sonar_span", span, "a float in (0, 2 pi] (rad)")
+    rng_ = _finite_float("sonar_range", kwargs.get("sonar_range", SONAR_RANGE), "a float > 0")
+    if rng_ <= 0:
+        raise _bad("sonar_range", rng_, "a float > 0 (m)")
+    continuous = kwargs.get("continuous", False)
+    if not isinstance(continuous, (bool, np.bool_)):
+        raise _bad("continuous", continuous, "True or False")
+    render_mode = kwargs.get("render_mode")
+    if render_mode not in (None, "rgb_array"):
+        raise _bad("render_mode", render_mode, "None or 'rgb_array'")
+    base = EnvConfig(
+        task=task,
+        length=length,
+        amplitude=amplitude,
+        wavelength=wavelength,
+        obstacles=obstacles,
+        current=current,
+        sonar_noise=sonar_noise,
+        start_noise=start_noise,
+        sonar_sectors=int(q),
+        sonar_span=span,
+        sonar_range=rng_,
+        continuous=bool(continuous),
+        max_episode_seconds=1.0,
+        render_mode=render_mode,
+    )
+    default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
+    t_max = _finite_float(
+        "max_episode_seconds", kwargs.get("max_episode_seconds", default_t), "a float > 0 (s)"
+    )
+    if t_max <= 0:
+        raise _bad("max_episode_seconds", t_max, "a float > 0 (s)")
+    return EnvConfig(**{**base.__dict__, "max_episode_seconds": t_max})

@@ -1,0 +1,129 @@
+"""The registry of rov_envs tasks (paper section 4.2.1, plus the tasks the paper leaves open).
+
+Each task is a :class:`TaskSpec`: which path the vehicle follows, which reward (eq. 18, eq. 19 or
+the obstacle-avoidance progress reward), which observation parts it exposes and where its obstacles
+come from (none, a fixed list from the paper, or a generator in :mod:`rov_envs.layouts` drawn afresh
+each episode from the environment's seed). Every value here is a default that keyword arguments at
+``gymnasium.make`` may override (see :mod:`rov_envs.config`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rov_envs.physics.guidance import SINE_AMPLITUDE, SINE_WAVELENGTH
+
+# Path kinds (kernel codes).
+PATH_STRAIGHT = 0
+PATH_SINE = 1
+# Reward kinds (kernel codes): eq. 18, eq. 19, progress toward the goal (ObstacleAvoidance).
+REWARD_STRAIGHT = 0
+REWARD_SINE = 1
+REWARD_PROGRESS = 2
+
+#: The paper's straight-task obstacles (section 4.2.1), (x, y, radius) in metres.
+PAPER_STRAIGHT_OBSTACLES = (
+    (66.0, -2.5, 1.5),
+    (80.0, 20.0, 1.5),
+    (118.0, -20.0, 1.5),
+    (132.0, 2.5, 1.5),
+)
+#: The paper's sine-task obstacles (section 4.2.1).
+PAPER_SINE_OBSTACLES = ((30.0, 17.5, 1.5), (90.0, -12.5, 1.5))
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """Defaults of one task.
+
+    Attributes:
+        name: registered name without namespace/version, e.g. ``"PlanningStraight"``.
+        path_kind: ``PATH_STRAIGHT`` (line from (0, 0) to (length, 0)) or ``PATH_SINE``
+            (y = amplitude * sin(2 pi x / wavelength), 0 <= x <= length).
+        reward_kind: ``REWARD_STRAIGHT`` (eq. 18), ``REWARD_SINE`` (eq. 19) or ``REWARD_PROGRESS``.
+        d_L: the corridor half-width of eq. 18, 19 and 21 (m).
+        length: path length along x (m).
+        amplitude, wavelength: sine shape (m); ignored by straight paths.
+        layout: ``"none"``, ``"fixed"`` or the name of a generator in :mod:`rov_envs.layouts`.
+        obstacles: the fixed obstacles when ``layout == "fixed"``.
+        sonar: whether the observation has the "sonar" part.
+    """
+
+    name: str
+    path_kind: int
+    reward_kind: int
+    d_L: float
+    length: float
+    layout: str = "none"
+    obstacles: tuple[tuple[float, float, float], ...] = ()
+    amplitude: float = SINE_AMPLITUDE
+    wavelength: float = SINE_WAVELENGTH
+    sonar: bool = False
+
+
+TASKS: dict[str, TaskSpec] = {
+    spec.name: spec
+    for spec in (
+        TaskSpec("PathFollowingStraight", PATH_STRAIGHT, REWARD_STRAIGHT, 30.0, 200.0),
+        TaskSpec("PathFollowingSine", PATH_SINE, REWARD_SINE, 15.0, 120.0),
+        TaskSpec(
+            "ObstacleAvoidance",
+            PATH_STRAIGHT,
+            REWARD_PROGRESS,
+            30.0,
+            100.0,
+            layout="avoidance",
+            sonar=True,
+        ),
+        TaskSpec(
+            "PlanningStraight",
+            PATH_STRAIGHT,
+            REWARD_STRAIGHT,
+            30.0,
+            200.0,
+            layout="fixed",
+            obstacles=PAPER_STRAIGHT_OBSTACLES,
+            sonar=True,
+        ),
+        TaskSpec(
+            "PlanningSine",
+            PATH_SINE,
+            REWARD_SINE,
+            15.0,
+            120.0,
+            layout="fixed",
+            obstacles=PAPER_SINE_OBSTACLES,
+            sonar=True,
+        ),
+        TaskSpec(
+            "PlanningStraightUniform",
+            PATH_STRAIGHT,
+            REWARD_STRAIGHT,
+            30.0,
+            200.0,
+            layout="uniform",
+            sonar=True,
+        ),
+        TaskSpec(
+            "PlanningStraightDense",
+            PATH_STRAIGHT,
+            REWARD_STRAIGHT,
+            30.0,
+            200.0,
+            layout="dense",
+            sonar=True,
+        ),
+        TaskSpec(
+            "PlanningSineDense",
+            PATH_SINE,
+            REWARD_SINE,
+            15.0,
+            120.0,
+            layout="sine_dense",
+            sonar=True,
+        ),
+    )
+}
+
+#: The registered ids, in the table order of the README.
+ENV_IDS: tuple[str, ...] = tuple(f"rov_envs/{name}-v0" for name in TASKS)

@@ -1,0 +1,382 @@
+"""Progressive policy (PNN, paper section 3.1-3.2, eq. 13) for :class:`sb3_pnn.DiscreteSAC`.
+
+``DiscreteSAC(ProgressivePolicy, env, policy_kwargs=dict(priors=["pf.zip", ...]))`` builds, in the
+actor and in every critic Q-network, one frozen column per prior checkpoint and a new trainable
+column k that reads them through lateral adapters (:class:`.columns.ProgressiveNet`).
+
+* The actor's prior columns are the priors' actors (for a DQN prior, its Q-network: see
+  :mod:`.prior_loading`); critic Q-network i's prior column from a prior is that prior's critic
+  ``i mod n`` (n = the prior's number of Q-networks; 1 for DQN).
+* Every prior column gets exactly the observation its checkpoint was trained on
+  (:func:`.obs_spec.match_prior_obs`); the new column gets the whole new observation through the
+  usual SB3 features extractor.
+* Prior weights are buffers of :class:`.columns.FrozenColumn`: not parameters, so they are in no
+  optimizer and untouched by the Polyak update; they are saved in the policy's state dict.
+* Self-contained models: after construction, ``portable_policy_kwargs()`` replaces
+  ``priors=[paths]`` by ``prior_specs=[...]`` (JSON-able :class:`.prior_loading.PriorSpec` dicts),
+  which DiscreteSAC saves; ``DiscreteSAC.load`` rebuilds the columns from the specs and then loads
+  the prior weights from the saved state dict, so the prior files are no longer needed.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Any
+
+import torch as th
+from gymnasium import spaces
+from stable_baselines3.common.policies import BaseModel, BasePolicy
+from stable_baselines3.common.preprocessing import preprocess_obs
+from stable_baselines3.common.torch_layers import (
+    BaseFeaturesExtractor,
+    CombinedExtractor,
+    FlattenExtractor,
+)
+from stable_baselines3.common.type_aliases import PyTorchObs, Schedule
+from torch import nn
+
+from sb3_pnn.policies import DiscreteSACPolicy, actions_from_logits
+from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
+from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
+from sb3_pnn.progressive.prior_loading import PriorCheckpoint, PriorSpec, load_prior
+
+
+def _lateral_weights(
+    gate: nn.Module | None, sigma: float, pre: Any, features: th.Tensor
+) -> tuple[th.Tensor | None, th.Tensor | None]:
+    """(c_j(s) = sigma * g_j(s), g(s)) for the SPNN; (None, None) = all laterals weigh 1 (PNN)."""
+    if gate is None:
+        return None, None
+    g = gate(pre, features)
+    return sigma * g, g
+
+
+class ProgressiveActor(BasePolicy):
+    """Softmax policy whose logits are the output of a :class:`ProgressiveNet` (eq. 13/15)."""
+
+    action_space: spaces.Discrete
+
+    def __init__(
+        self,
+        observation_space: spaces.Space,
+        action_space: spaces.Discrete,
+        features_extractor: BaseFeaturesExtractor,
+        features_dim: int,
+        net: ProgressiveNet,
+        feeds: Sequence[Feed],
+        gate: nn.Module | None = None,
+        sigma: float = 1.0,
+        own_weight: float = 1.0,
+        normalize_images: bool = True,
+    ):
+        super().__init__(
+            observation_space,
+            action_space,
+            features_extractor=features_extractor,
+            normalize_images=normalize_images,
+        )
+        self.features_dim = features_dim
+        self.net = net
+        self.feeds = list(feeds)
+        self.gate = gate
+        self.sigma = sigma
+        self.own_weight = own_weight
+        n = len(feeds)
+        # Column-lead counts since the last extra_logs(): [rollout steps, training batches]
+        self.lead_counts = th.zeros(2, n)
+
+    def forward(self, obs: PyTorchObs) -> th.Tensor:
+        """Logits (B, n_actions) of column k."""
+        pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
+        features = self.features_extractor(pre)
+        hidden = self.net.prior_hidden([feed(pre) for feed in self.feeds])
+        weights, g = _lateral_weights(self.gate, self.sigma, pre, features)
+        if g is not None:
+            self._count_leads(g)
+        return self.net(features, hidden, weights, self.own_weight)
+
+    def _count_leads(self, g: th.Tensor) -> None:
+        # Rollout steps are predicted in eval mode; the actor-loss pass is a training pass with
+        # gradients (the TD-target pass runs without gradients and is not counted).
+        if not self.training:
+            row = 0
+        elif th.is_grad_enabled():
+            row = 1
+        else:
+            return
+        with th.no_grad():
+            if self.lead_counts.device != g.device:
+                self.lead_counts = self.lead_counts.to(g.device)
+            lead = nn.functional.one_hot(g.argmax(dim=1), g.shape[1]).sum(dim=0)
+            self.lead_counts[row] += lead.to(self.lead_counts.dtype)
+
+    def _predict(self, observation: PyTorchObs, deterministic: bool = False) -> th.Tensor:
+        return actions_from_logits(self(observation), deterministic)
+
+
+class ProgressiveCritic(BaseModel):
+    """``n_critics`` Q-networks, each a :class:`ProgressiveNet` over its own prior columns."""
+
+    action_space: spaces.Discrete
+    features_extractor: BaseFeaturesExtractor
+
+    def __init__(
+        self,
+        observation_space: spaces.Space,
+        action_space: spaces.Discrete,
+        features_extractor: BaseFeaturesExtractor,
+        features_dim: int,
+        q_networks: Sequence[ProgressiveNet],
+        feeds: Sequence[Feed],
+        gates: Sequence[nn.Module | None],
+        sigma: float = 1.0,
+        own_weight: float = 1.0,
+        normalize_images: bool = True,
+        share_features_extractor: bool = False,
+    ):
+        super().__init__(
+            observation_space,
+            action_space,
+            features_extractor=features_extractor,
+            normalize_images=normalize_images,
+        )
+        self.features_dim = features_dim
+        self.n_critics = len(q_networks)
+        self.q_networks = nn.ModuleList(q_networks)
+        self.gates = nn.ModuleList(g if g is not None else nn.Identity() for g in gates)
+        self._has_gate = [g is not None for g in gates]
+        self.feeds = list(feeds)
+        self.sigma = sigma
+        self.own_weight = own_weight
+        self.share_features_extractor = share_features_extractor
+
+    def forward(self, obs: PyTorchObs) -> tuple[th.Tensor, ...]:
+        """Q-values of every action from each Q-network: ``n_critics`` tensors (B, n_actions)."""
+        pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
+        with th.set_grad_enabled(th.is_grad_enabled() and not self.share_features_extractor):
+            features = self.features_extractor(pre)
+        prior_inputs = [feed(pre) for feed in self.feeds]
+        out = []
+        for q_net, gate, has_gate in zip(self.q_networks, self.gates, self._has_gate, strict=True):
+            weights, _ = _lateral_weights(gate if has_gate else None, self.sigma, pre, features)
+            out.append(q_net(features, q_net.prior_hidden(prior_inputs), weights, self.own_weight))
+        return tuple(out)
+
+
+def _resolve_priors(
+    priors: Sequence[str | os.PathLike[str]] | None,
+    prior_specs: Sequence[dict[str, Any] | PriorSpec] | None,
+) -> tuple[list[PriorSpec], list[PriorCheckpoint] | None]:
+    if priors is not None and prior_specs is not None:
+        raise ValueError("give either priors (checkpoint paths) or prior_specs, not both")
+    if priors is not None:
+        if isinstance(priors, (str, os.PathLike)) or len(priors) == 0:
+            raise ValueError(f"priors must be a non-empty list of checkpoint paths, got {priors!r}")
+        checkpoints = [load_prior(p) for p in priors]
+        return [c.spec for c in checkpoints], checkpoints
+    if prior_specs is None or len(prior_specs) == 0:
+        raise ValueError(
+            "a progressive policy needs policy_kwargs priors=[checkpoint.zip, ...] "
+            "(or prior_specs from a saved model)"
+        )
+    specs = [s if isinstance(s, PriorSpec) else PriorSpec.from_json(s) for s in prior_specs]
+    return specs, None
+
+
+class ProgressivePolicy(DiscreteSACPolicy):
+    """
+    DiscreteSAC policy with progressive columns (PNN, eq. 13): frozen priors + a new column.
+
+    Arguments as :class:`sb3_pnn.policies.DiscreteSACPolicy` (``net_arch`` is the new column's
+    hidden widths; ``features_extractor_class`` defaults to Combined/Flatten by observation space),
+    and:
+
+    :param priors: Prior checkpoint paths (DiscreteSAC or SB3 DQN ``.zip``), column 1..k-1
+    :param prior_specs: Instead of ``priors``: the architecture specs a saved model stores
+        (weights then come from the saved state dict); set by :meth:`portable_policy_kwargs`
+    :param learn_lateral_scale: Learn Rusu et al.'s scalar per lateral connection
+    :param lateral_scale_init: Initial value of that scalar (the constant when not learned)
+    """
+
+    actor: ProgressiveActor  # type: ignore[assignment]
+    critic: ProgressiveCritic  # type: ignore[assignment]
+    critic_target: ProgressiveCritic  # type: ignore[assignment]
+
+    def __init__(
+        self,
+        observation_space: spaces.Space,
+        action_space: spaces.Discrete,
+        lr_schedule: Schedule,
+        net_arch: list[int] | dict[str, list[int]] | None = None,
+        activation_fn: type[nn.Module] = nn.ReLU,
+        features_extractor_class: type[BaseFeaturesExtractor] | None = None,
+        features_extractor_kwargs: dict[str, Any] | None = None,
+        normalize_images: bool = True,
+        optimizer_class: type[th.optim.Optimizer] = th.optim.Adam,
+        optimizer_kwargs: dict[str, Any] | None = None,
+        n_critics: int = 2,
+        share_features_extractor: bool = False,
+        priors: Sequence[str | os.PathLike[str]] | None = None,
+        prior_specs: Sequence[dict[str, Any] | PriorSpec] | None = None,
+        learn_lateral_scale: bool = True,
+        lateral_scale_init: float = 1.0,
+    ):
+        activation_name(activation_fn)  # refuse unsupported activations early
+        if features_extractor_class is None:
+            features_extractor_class = (
+                CombinedExtractor
+                if isinstance(observation_space, spaces.Dict)
+                else FlattenExtractor
+            )
+        if features_extractor_class not in (CombinedExtractor, FlattenExtractor):
+            raise ValueError(
+                "progressive policies feed the new column the flattened observation: "
+                f"features_extractor_class must be CombinedExtractor or FlattenExtractor, got "
+                f"{features_extractor_class!r}"
+            )
+        # Set before super().__init__, which builds the networks through make_actor/make_critic.
+        self.prior_specs, self._checkpoints = _resolve_priors(priors, prior_specs)
+        self._validate_priors(self.prior_specs, action_space)
+        new_obs = obs_spec_from_space(observation_space)
+        self.feeds = [
+            match_prior_obs(s.obs, new_obs, f"prior {i} ({s.source or s.algo})")
+            for i, s in enumerate(self.prior_specs)
+        ]
+        self.learn_lateral_scale = learn_lateral_scale
+        self.lateral_scale_init = lateral_scale_init
+        self._user_kwargs = dict(
+            net_arch=net_arch,
+            activation_fn=activation_fn,
+            features_extractor_class=features_extractor_class,
+            features_extractor_kwargs=features_extractor_kwargs,
+            normalize_images=normalize_images,
+            optimizer_class=optimizer_class,
+            optimizer_kwargs=optimizer_kwargs,
+            n_critics=n_critics,
+            share_features_extractor=share_features_extractor,
+        )
+        super().__init__(
+            observation_space,
+            action_space,
+            lr_schedule,
+            net_arch,
+            activation_fn,
+            features_extractor_class,
+            features_extractor_kwargs,
+            normalize_images,
+            optimizer_class,
+            optimizer_kwargs,
+            n_critics,
+            share_features_extractor,
+        )
+        self._checkpoints = None  # weights are in the columns now; drop the copies
+
+    # --- hooks for SelectivePolicy -------------------------------------------------------
+    def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:
+        """Subclass hook (SelectivePolicy checks it has exactly two priors)."""
+
+    def _make_gate(self, features_dim: int) -> nn.Module | None:
+        return None
+
+    def _mixing(self) -> tuple[float, float]:
+        """(sigma, own_weight): the weights of the laterals and of the own path (1, 1 for PNN)."""
+        return 1.0, 1.0
+
+    def _progressive_kwargs(self) -> dict[str, Any]:
+        return dict(
+            learn_lateral_scale=self.learn_lateral_scale,
+            lateral_scale_init=self.lateral_scale_init,
+        )
+
+    # --- networks -------------------------------------------------------------------------
+    def _columns(self, role: str, index: int = 0) -> list[FrozenColumn]:
+        cols = []
+        for j, spec in enumerate(self.prior_specs):
+            col_spec = spec.actor if role == "actor" else spec.critics[index % len(spec.critics)]
+            col = FrozenColumn(col_spec)
+            if self._checkpoints is not None:
+                ckpt = self._checkpoints[j]
+                layers = (
+                    ckpt.actor_layers
+                    if role == "actor"
+                    else ckpt.critic_layers[index % len(ckpt.critic_layers)]
+                )
+                col.load_layers(layers)
+            cols.append(col)
+        return cols
+
+    def _net(
+        self, features_dim: int, hidden: list[int], columns: list[FrozenColumn]
+    ) -> ProgressiveNet:
+        return ProgressiveNet(
+            features_dim,
+            hidden,
+            int(self.action_space.n),
+            self.activation_fn,
+            columns,
+            learn_lateral_scale=self.learn_lateral_scale,
+            lateral_scale_init=self.lateral_scale_init,
+        )
+
+    def make_actor(
+        self, features_extractor: BaseFeaturesExtractor | None = None
+    ) -> ProgressiveActor:  # type: ignore[override]
+        kwargs = self._update_features_extractor(self.actor_kwargs, features_extractor)
+        sigma, own = self._mixing()
+        fdim = kwargs["features_dim"]
+        actor = ProgressiveActor(
+            self.observation_space,
+            self.action_space,
+            kwargs["features_extractor"],
+            fdim,
+            self._net(fdim, list(kwargs["net_arch"]), self._columns("actor")),
+            self.feeds,
+            gate=self._make_gate(fdim),
+            sigma=sigma,
+            own_weight=own,
+            normalize_images=self.normalize_images,
+        )
+        return actor.to(self.device)
+
+    def make_critic(
+        self, features_extractor: BaseFeaturesExtractor | None = None
+    ) -> ProgressiveCritic:  # type: ignore[override]
+        kwargs = self._update_features_extractor(self.critic_kwargs, features_extractor)
+        sigma, own = self._mixing()
+        fdim = kwargs["features_dim"]
+        hidden = list(kwargs["net_arch"])
+        critic = ProgressiveCritic(
+            self.observation_space,
+            self.action_space,
+            kwargs["features_extractor"],
+            fdim,
+            [self._net(fdim, hidden, self._columns("critic", i)) for i in range(self.n_critics)],
+            self.feeds,
+            [self._make_gate(fdim) for _ in range(self.n_critics)],
+            sigma=sigma,
+            own_weight=own,
+            normalize_images=self.normalize_images,
+            share_features_extractor=self.share_features_extractor,
+        )
+        return critic.to(self.device)
+
+    # --- contract hooks (CONTRACTS.md, Learner API) ---------------------------------------
+    def portable_policy_kwargs(self) -> dict[str, Any]:
+        """Policy kwargs that rebuild this policy without the prior files: ``priors`` replaced by
+        JSON-able ``prior_specs`` (the prior weights travel in the saved state dict)."""
+        return {
+            **self._user_kwargs,
+            **self._progressive_kwargs(),
+            "prior_specs": [s.to_json() for s in self.prior_specs],
+        }
+
+    def extra_logs(self) -> dict[str, float]:
+        """Extra training logs (none for the PNN; the SPNN logs its gate, see subclass)."""
+        return {}
+
+    def _get_constructor_parameters(self) -> dict[str, Any]:
+        data = super()._get_constructor_parameters()
+        data.update(self._progressive_kwargs())
+        data["prior_specs"] = [s.to_json() for s in self.prior_specs]
+        return data

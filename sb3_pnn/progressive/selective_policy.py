@@ -1,0 +1,182 @@
+"""Selective progressive policy (SPNN, paper section 3.3, eq. 15, Figure 4, Algorithm 1).
+
+Three columns: 1 = path-following prior, 2 = obstacle-avoidance prior (both frozen, given as
+``priors=[path_following_zip, obstacle_avoidance_zip]`` in that order), 3 = the new column.
+
+Reading of eq. (15). The paper writes h_i^(3) = sigma * h_{i-1}^(j) + tau * h_{i-1}^(3), with j = 1
+when d > d_th and j = 2 when d <= d_th. Taken literally it has no weights (the new column could
+not learn) and adds activations of possibly different widths. We read it as eq. (13) with the two
+terms weighted, the weighted sum taken before the non-linearity::
+
+    h_i^(3) = f( own_weight * W_i h_{i-1}^(3)
+                 + sigma * sum_{j=1,2} g_j(s) * U_i^(3:j) h_{i-1}^(j) + b_i )
+
+where g(s) is the gate: the hard gate of the paper gives g = (1, 0) or (0, 1) per sample, so
+exactly one prior contributes and "the unselected policy network does not contribute"; U_i^(3:j)
+maps prior j's width to the new column's (the "parameter-sharing module" of Figure 4). The
+paper's tau is ``own_weight`` here (``tau`` is SB3's Polyak coefficient). Rusu's extra learned
+scalar per lateral is off by default (``learn_lateral_scale=False``) so that sigma keeps its
+meaning. The same gate acts in the actor and in every critic (Algorithm 1 transfers pi and Q).
+
+d = min(obs[sonar_key]) * sonar_range is the nearest-obstacle distance in metres (CONTRACTS:
+sonar sectors are distances / sonar_range). Gates: see :mod:`.gates` (``"hard"`` = paper,
+``"soft"``, ``"learned"``). The share of samples on which each prior leads (largest gate
+weight) is returned by :meth:`SelectivePolicy.extra_logs`, which DiscreteSAC logs as
+``train/gate/step_share_<prior>`` (rollout steps) and ``train/gate/batch_share_<prior>``
+(training batches).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Any
+
+import torch as th
+from gymnasium import spaces
+from stable_baselines3.common.preprocessing import preprocess_obs
+from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+from stable_baselines3.common.type_aliases import Schedule
+from torch import nn
+
+from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate
+from sb3_pnn.progressive.prior_loading import PriorSpec
+from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
+
+PRIOR_NAMES = ("path_following", "obstacle_avoidance")
+
+
+class SelectivePolicy(ProgressivePolicy):
+    """
+    SPNN policy for DiscreteSAC (eq. 15): two frozen priors selected per sample + a new column.
+
+    Arguments as :class:`ProgressivePolicy`, and:
+
+    :param priors: ``[path_following_zip, obstacle_avoidance_zip]``, in that order
+    :param sigma: Weight of the selected prior's lateral input (paper: 0.5)
+    :param own_weight: Weight of the new column's own input, the paper's tau (0.5)
+    :param d_th: Switching distance in metres (paper: 12.5)
+    :param sonar_range: Sonar range in metres (sonar observations are distance / range)
+    :param sonar_key: Observation key of the sonar
+    :param gate: ``"hard"`` (paper), ``"soft"`` or ``"learned"`` (see :mod:`.gates`)
+    :param temperature: Temperature (metres) of the soft gate
+    :param gate_hidden: Hidden width of the learned gate
+    """
+
+    def __init__(
+        self,
+        observation_space: spaces.Space,
+        action_space: spaces.Discrete,
+        lr_schedule: Schedule,
+        net_arch: list[int] | dict[str, list[int]] | None = None,
+        activation_fn: type[nn.Module] = nn.ReLU,
+        features_extractor_class: type[BaseFeaturesExtractor] | None = None,
+        features_extractor_kwargs: dict[str, Any] | None = None,
+        normalize_images: bool = True,
+        optimizer_class: type[th.optim.Optimizer] = th.optim.Adam,
+        optimizer_kwargs: dict[str, Any] | None = None,
+        n_critics: int = 2,
+        share_features_extractor: bool = False,
+        priors: Sequence[str | os.PathLike[str]] | None = None,
+        prior_specs: Sequence[dict[str, Any] | PriorSpec] | None = None,
+        learn_lateral_scale: bool = False,
+        lateral_scale_init: float = 1.0,
+        sigma: float = 0.5,
+        own_weight: float = 0.5,
+        d_th: float = 12.5,
+        sonar_range: float = 25.0,
+        sonar_key: str = "sonar",
+        gate: str = "hard",
+        temperature: float = 1.0,
+        gate_hidden: int = 32,
+    ):
+        if gate not in GATES:
+            raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
+        if (
+            not isinstance(observation_space, spaces.Dict)
+            or sonar_key not in observation_space.spaces
+        ):
+            raise ValueError(
+                f"SelectivePolicy needs a Dict observation with a {sonar_key!r} key (the sonar "
+                f"gives the obstacle distance d of eq. 15), got {observation_space}"
+            )
+        for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
+            if not isinstance(value, (int, float)) or value < 0:
+                raise ValueError(f"{name} must be a number >= 0, got {value!r}")
+        self.sigma = float(sigma)
+        self.own_weight = float(own_weight)
+        self.d_th = float(d_th)
+        self.sonar_range = float(sonar_range)
+        self.sonar_key = sonar_key
+        self.gate = gate
+        self.temperature = float(temperature)
+        self.gate_hidden = int(gate_hidden)
+        super().__init__(
+            observation_space,
+            action_space,
+            lr_schedule,
+            net_arch,
+            activation_fn,
+            features_extractor_class,
+            features_extractor_kwargs,
+            normalize_images,
+            optimizer_class,
+            optimizer_kwargs,
+            n_critics,
+            share_features_extractor,
+            priors,
+            prior_specs,
+            learn_lateral_scale,
+            lateral_scale_init,
+        )
+
+    def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:
+        if len(specs) != 2:
+            raise ValueError(
+                "SelectivePolicy takes exactly two priors, [path_following_zip, "
+                f"obstacle_avoidance_zip], got {len(specs)}"
+            )
+
+    def _make_gate(self, features_dim: int) -> nn.Module | None:
+        if self.gate == "learned":
+            return LearnedGate(features_dim, 2, self.gate_hidden)
+        return DistanceGate(
+            self.gate, self.d_th, self.sonar_range, self.sonar_key, self.temperature
+        )
+
+    def _mixing(self) -> tuple[float, float]:
+        return self.sigma, self.own_weight
+
+    def _progressive_kwargs(self) -> dict[str, Any]:
+        return dict(
+            **super()._progressive_kwargs(),
+            sigma=self.sigma,
+            own_weight=self.own_weight,
+            d_th=self.d_th,
+            sonar_range=self.sonar_range,
+            sonar_key=self.sonar_key,
+            gate=self.gate,
+            temperature=self.temperature,
+            gate_hidden=self.gate_hidden,
+        )
+
+    def gate_weights(self, obs: dict[str, Any]) -> th.Tensor:
+        """The actor's gate weights g(s) (B, 2) over [path following, obstacle avoidance], for
+        a batch of observations (numpy arrays as from the env, or tensors)."""
+        if not all(isinstance(v, th.Tensor) for v in obs.values()):
+            obs, _ = self.obs_to_tensor(obs)
+        pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
+        with th.no_grad():
+            return self.actor.gate(pre, self.actor.features_extractor(pre))  # type: ignore[misc]
+
+    def extra_logs(self) -> dict[str, float]:
+        """Share of samples on which each prior column led since the last call (then reset)."""
+        logs: dict[str, float] = {}
+        counts = self.actor.lead_counts
+        for row, prefix in ((0, "gate/step_share"), (1, "gate/batch_share")):
+            total = float(counts[row].sum())
+            if total > 0:
+                for j, name in enumerate(PRIOR_NAMES):
+                    logs[f"{prefix}_{name}"] = float(counts[row, j]) / total
+        counts.zero_()
+        return logs

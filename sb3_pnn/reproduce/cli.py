@@ -1,0 +1,196 @@
+"""``python -m sb3_pnn.reproduce``: run the study of section 4.3 and write figures and report.md.
+
+Usage::
+
+    python -m sb3_pnn.reproduce [--quick] [--seeds N] [--jobs J] [--out DIR] [--episodes E]
+                                [--eval-episodes N] [--prior-per-seed] [--no-progress]
+
+The study (see :mod:`.plan`) trains the source columns, then SAC-Single, SAC-Multi, PNN and SPNN
+on both planning tasks for ``--seeds`` seeds, evaluates them and both PID controllers, and writes
+``DIR/report.md`` and ``DIR/figures/``. Interrupt it at any time: the next call with the same
+arguments and ``--out`` resumes, skipping finished runs (:mod:`.store`). Bad arguments exit with
+status 2 and a one-line message.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.store import RunStore, StudyConflictError, write_json_atomic
+
+DEFAULT_OUT = "results/study"
+SESSIONS = "sessions.json"
+
+
+def _positive_int(name: str) -> Any:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be an integer >= 1, got {text!r}"
+            ) from None
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer >= 1, got {value}")
+        return value
+
+    return parse
+
+
+def make_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m sb3_pnn.reproduce",
+        description="Reproduce Pan et al. (2025) section 4.3: train PNN, SPNN, SAC-Single and "
+        "SAC-Multi on the BlueROV2 planning tasks, evaluate them and the PID baselines, and "
+        "write figures 10-20 and report.md.",
+    )
+    parser.add_argument(
+        "--quick", action="store_true", help="smoke-sized study (about 5 minutes on 2 cores)"
+    )
+    parser.add_argument(
+        "--seeds",
+        type=_positive_int("--seeds"),
+        default=None,
+        help="training seeds per agent and task (default 5; 2 with --quick)",
+    )
+    parser.add_argument(
+        "--jobs",
+        type=_positive_int("--jobs"),
+        default=os.cpu_count() or 1,
+        help="runs in parallel (default: number of cores)",
+    )
+    parser.add_argument(
+        "--out", default=None, help=f"output folder (default {DEFAULT_OUT}, or results/quick)"
+    )
+    parser.add_argument(
+        "--episodes",
+        type=_positive_int("--episodes"),
+        default=None,
+        help="training episodes of every agent on the planning tasks",
+    )
+    parser.add_argument(
+        "--eval-episodes",
+        type=_positive_int("--eval-episodes"),
+        default=None,
+        help="evaluation episodes per policy and task",
+    )
+    parser.add_argument(
+        "--prior-per-seed",
+        action="store_true",
+        help="train one set of source columns per seed (default: one shared set)",
+    )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--report-only",
+        action="store_true",
+        help="only redraw the figures and report.md from the runs finished in --out",
+    )
+    parser.add_argument("--tiny", action="store_true", help=argparse.SUPPRESS)  # tests only
+    return parser
+
+
+def config_from_args(args: argparse.Namespace) -> StudyConfig:
+    budget = "tiny" if args.tiny else ("quick" if args.quick else "full")
+    seeds = args.seeds if args.seeds is not None else (5 if budget == "full" else 2)
+    return StudyConfig(
+        budget_name=budget,
+        seeds=seeds,
+        episodes=args.episodes,
+        eval_episodes=args.eval_episodes,
+        prior_per_seed=args.prior_per_seed,
+    )
+
+
+def _load_sessions(out: Path) -> list[dict[str, Any]]:
+    import json
+
+    path = out / SESSIONS
+    return json.loads(path.read_text()) if path.is_file() else []
+
+
+def finish(out: Path, config: StudyConfig, plan: list[Any], store: RunStore, jobs: int) -> Path:
+    """Figures and report.md from whatever has finished in ``out``."""
+    from sb3_pnn.reproduce.figures import make_figures
+    from sb3_pnn.reproduce.report import write_report
+    from sb3_pnn.reproduce.results import load_results
+
+    results = load_results(plan, store)
+    figures = make_figures(results, out / "figures")
+    report = out / "report.md"
+    write_report(results, config, figures, _load_sessions(out), report, jobs)
+    return report
+
+
+def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
+    """Entry point; ``work`` replaces the real run function (tests only)."""
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    config = config_from_args(args)
+    out = Path(args.out or ("results/quick" if args.quick else DEFAULT_OUT))
+    if out.exists() and not out.is_dir():
+        parser.error(f"--out {os.fspath(out)!r} exists and is not a folder")
+    store = RunStore(out)
+    try:
+        store.open()
+    except (PermissionError, RuntimeError) as error:
+        parser.error(str(error))
+    try:
+        from sb3_pnn.reproduce.executor import execute
+
+        if work is None:
+            from sb3_pnn.reproduce.work import run_work as work
+        plan = build_plan(config)
+        print(
+            f"study: {len(plan)} runs ({config.budget_name} budget, {config.seeds} seed(s), "
+            f"--jobs {args.jobs}) in {os.fspath(out)}",
+            flush=True,
+        )
+        if args.report_only:
+            report = finish(out, config, plan, store, args.jobs)
+            print(f"report: {os.fspath(report.resolve())}", flush=True)
+            return 0
+        started = time.time()
+        try:
+            summary = execute(plan, store, work, args.jobs, quiet=args.no_progress)
+        except StudyConflictError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        sessions = _load_sessions(out)
+        sessions.append(
+            {
+                "started": started,
+                "wall_s": time.time() - started,
+                "jobs": args.jobs,
+                "runs_done": len(summary.done),
+                "runs_skipped_finished": len(summary.skipped_finished),
+                "runs_failed": len(summary.failed),
+                "runs_blocked": len(summary.blocked),
+            }
+        )
+        write_json_atomic(out / SESSIONS, sessions)
+        print(
+            f"runs: {len(summary.done)} done now, "
+            f"{len(summary.skipped_finished)} finished earlier, "
+            f"{len(summary.failed)} failed, {len(summary.blocked)} blocked by a failed prior "
+            f"({summary.wall_s / 60:.1f} min)",
+            flush=True,
+        )
+        drawing = time.time()
+        report = finish(out, config, plan, store, args.jobs)
+        print(
+            f"figures and report drawn in {time.time() - drawing:.0f} s; "
+            f"total {(time.time() - started) / 60:.1f} min",
+            flush=True,
+        )
+    finally:
+        store.close()
+    print(f"report: {os.fspath(report.resolve())}", flush=True)
+    print(f"figures: {os.fspath((out / 'figures').resolve())}", flush=True)
+    return 1 if summary.failed or summary.blocked else 0

@@ -1,0 +1,274 @@
+"""The study's plan: which runs to make, with which budget (paper section 4.3, Figures 10-20).
+
+A study is a list of :class:`RunSpec` built by :func:`build_plan` from a :class:`StudyConfig`:
+
+* ``prior`` runs train the source columns with DiscreteSAC: path following on the straight line
+  and on the sinusoid (the prior of PNN, SAC-Multi and SPNN's first column) and obstacle
+  avoidance (SPNN's second column): one run per needed prior, seed 0, shared by every seed of the
+  transfer runs (so the budget goes into better priors). With ``prior_per_seed`` every seed gets
+  its own priors instead, and the spread across seeds includes the spread of the priors.
+* ``transfer`` runs train the four agents of section 4.3 on both planning tasks: SAC-Single
+  (DiscreteSAC from scratch), SAC-Multi (DiscreteSAC started from the path-following prior's
+  weights), PNN (two columns, eq. 13) and SPNN (three columns, eq. 15). Each ends by evaluating its
+  final policy (see :mod:`.evaluate`).
+* ``baseline`` runs evaluate the PID and adaptive PID controllers on the same tasks.
+
+Training budgets are counted in EPISODES, as in the paper's Figures 10, 11 and 14.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import asdict, dataclass, field, replace
+from typing import Any
+
+#: The source tasks of the prior columns.
+PRIOR_ENVS: dict[str, str] = {
+    "pf_straight": "rov_envs/PathFollowingStraight-v0",
+    "pf_sine": "rov_envs/PathFollowingSine-v0",
+    "oa": "rov_envs/ObstacleAvoidance-v0",
+}
+#: The two planning tasks the agents are trained on, by path.
+PLANNING_ENVS: dict[str, str] = {
+    "straight": "rov_envs/PlanningStraight-v0",
+    "sine": "rov_envs/PlanningSine-v0",
+}
+#: The learning agents of section 4.3, in the paper's order, and their priors (by prior name
+#: template; ``{path}`` is replaced by ``straight`` / ``sine``).
+AGENTS: dict[str, tuple[str, ...]] = {
+    "pnn": ("pf_{path}",),
+    "spnn": ("pf_{path}", "oa"),
+    "sac_single": (),
+    "sac_multi": ("pf_{path}",),
+}
+AGENT_LABELS: dict[str, str] = {
+    "pnn": "PNN",
+    "spnn": "SPNN",
+    "sac_single": "SAC-Single",
+    "sac_multi": "SAC-Multi",
+    "pid": "PID",
+    "adaptive_pid": "Adaptive PID",
+}
+BASELINES: tuple[str, ...] = ("pid", "adaptive_pid")
+#: Evaluation tasks per path: (label, env id, env kwargs). "path following" keeps the planning
+#: task's observation (sonar included) and removes its obstacles, so that the same policy runs.
+EVAL_TASKS: dict[str, tuple[tuple[str, str, dict[str, Any]], ...]] = {
+    "straight": (
+        ("original", "rov_envs/PlanningStraight-v0", {}),
+        ("path_following", "rov_envs/PlanningStraight-v0", {"obstacles": []}),
+        ("uniform", "rov_envs/PlanningStraightUniform-v0", {}),
+        ("dense", "rov_envs/PlanningStraightDense-v0", {}),
+    ),
+    "sine": (
+        ("original", "rov_envs/PlanningSine-v0", {}),
+        ("path_following", "rov_envs/PlanningSine-v0", {"obstacles": []}),
+        ("dense", "rov_envs/PlanningSineDense-v0", {}),
+    ),
+}
+#: Episodes at which the paper draws training trajectories (Figure 11: straight, 14: sine).
+PAPER_TRAJECTORY_EPISODES: dict[str, tuple[int, ...]] = {
+    "straight": (0, 80, 150, 230, 250, 300),
+    "sine": (0, 80, 140, 180, 220, 400),
+}
+
+#: DiscreteSAC settings of every run: the paper's Tables 2-3 (DiscreteSAC's defaults) except
+#: ``learning_starts``: SB3 acts uniformly at random for the first ``learning_starts`` steps,
+#: which would hide exactly what transfer buys at the start of training (Figure 10); one batch
+#: (256 steps) of experience before the first update, for all agents alike.
+SAC_KWARGS: dict[str, Any] = {"learning_starts": 256}
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Training and evaluation sizes of a study.
+
+    Attributes:
+        prior_episodes: training episodes of each source column, by prior name.
+        transfer_episodes: training episodes of each agent on each planning task, by path.
+        eval_episodes: evaluation episodes per (policy, task) (Figure 20's success rates).
+        trace_episodes: evaluation episodes whose trajectories are kept for Figures 12-19.
+    """
+
+    prior_episodes: dict[str, int]
+    transfer_episodes: dict[str, int]
+    eval_episodes: int
+    trace_episodes: int = 1
+
+
+#: Full study: 5 seeds on a 2-core machine in at most one hour (measured; see the report).
+FULL = Budget(
+    prior_episodes={"pf_straight": 150, "pf_sine": 150, "oa": 200},
+    transfer_episodes={"straight": 150, "sine": 150},
+    eval_episodes=50,
+)
+#: ``--quick``: smoke-sized, at most five minutes on 2 cores.
+QUICK = Budget(
+    prior_episodes={"pf_straight": 25, "pf_sine": 25, "oa": 25},
+    transfer_episodes={"straight": 25, "sine": 25},
+    eval_episodes=10,
+)
+#: Hidden test budget (``--tiny``): a few seconds per run.
+TINY = Budget(
+    prior_episodes={"pf_straight": 3, "pf_sine": 3, "oa": 3},
+    transfer_episodes={"straight": 3, "sine": 3},
+    eval_episodes=2,
+)
+BUDGETS: dict[str, Budget] = {"full": FULL, "quick": QUICK, "tiny": TINY}
+
+
+@dataclass(frozen=True)
+class StudyConfig:
+    """What ``python -m sb3_pnn.reproduce`` was asked for (see :func:`build_plan`)."""
+
+    budget_name: str = "full"
+    seeds: int = 5
+    episodes: int | None = None  # overrides every transfer budget when given
+    eval_episodes: int | None = None
+    prior_per_seed: bool = False
+    paths: tuple[str, ...] = ("straight", "sine")
+    agents: tuple[str, ...] = tuple(AGENTS)
+
+    def __post_init__(self) -> None:
+        if self.budget_name not in BUDGETS:
+            raise ValueError(
+                f"budget {self.budget_name!r} is unknown; expected one of {sorted(BUDGETS)}"
+            )
+        if isinstance(self.seeds, bool) or not isinstance(self.seeds, int) or self.seeds < 1:
+            raise ValueError(f"seeds={self.seeds!r} is not allowed: expected an integer >= 1")
+        for name in ("episodes", "eval_episodes"):
+            value = getattr(self, name)
+            if value is not None and (
+                isinstance(value, bool) or not isinstance(value, int) or value < 1
+            ):
+                raise ValueError(f"{name}={value!r} is not allowed: expected an integer >= 1")
+        for path in self.paths:
+            if path not in PLANNING_ENVS:
+                raise ValueError(
+                    f"path {path!r} is unknown; expected one of {sorted(PLANNING_ENVS)}"
+                )
+        for agent in self.agents:
+            if agent not in AGENTS:
+                raise ValueError(f"agent {agent!r} is unknown; expected one of {sorted(AGENTS)}")
+
+    @property
+    def budget(self) -> Budget:
+        base = BUDGETS[self.budget_name]
+        if self.episodes is not None:
+            base = replace(
+                base, transfer_episodes={p: self.episodes for p in base.transfer_episodes}
+            )
+        if self.eval_episodes is not None:
+            base = replace(base, eval_episodes=self.eval_episodes)
+        return base
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One independent unit of work: train (and evaluate) one agent with one seed.
+
+    ``deps`` are the run ids whose outputs (prior checkpoints) this run reads; ``config`` holds
+    everything that determines the run's result, and its hash guards resumed studies.
+    """
+
+    run_id: str
+    kind: str  # "prior" | "transfer" | "baseline"
+    agent: str
+    path: str | None
+    env_id: str | None
+    seed: int
+    episodes: int
+    deps: tuple[str, ...] = ()
+    record_episodes: tuple[int, ...] = ()
+    eval_tasks: tuple[tuple[str, str, dict[str, Any]], ...] = ()
+    eval_episodes: int = 0
+    trace_episodes: int = 0
+    sac_kwargs: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        return json.loads(json.dumps(asdict(self)))
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RunSpec:
+        data = dict(data)
+        for key in ("deps", "record_episodes"):
+            data[key] = tuple(data[key])
+        data["eval_tasks"] = tuple((a, b, dict(c)) for a, b, c in data["eval_tasks"])
+        return cls(**data)
+
+    def config_hash(self) -> str:
+        """SHA-256 (16 hex digits) of everything that determines this run's result."""
+        blob = json.dumps(self.to_dict(), sort_keys=True).encode()
+        return hashlib.sha256(blob).hexdigest()[:16]
+
+
+def prior_run_id(name: str, seed: int) -> str:
+    return f"prior-{name}-s{seed}"
+
+
+def build_plan(config: StudyConfig) -> list[RunSpec]:
+    """All runs of a study, priors first (a run's ``deps`` always come earlier in the list)."""
+    budget = config.budget
+    prior_seeds = range(config.seeds) if config.prior_per_seed else range(1)
+    needed: set[str] = set()
+    for path in config.paths:
+        for agent in config.agents:
+            needed.update(t.format(path=path) for t in AGENTS[agent])
+    runs: list[RunSpec] = []
+    for seed in prior_seeds:
+        for name, env_id in PRIOR_ENVS.items():
+            if name in needed:
+                runs.append(
+                    RunSpec(
+                        run_id=prior_run_id(name, seed),
+                        kind="prior",
+                        agent="dsac",
+                        path=None,
+                        env_id=env_id,
+                        seed=seed,
+                        episodes=budget.prior_episodes[name],
+                        sac_kwargs=dict(SAC_KWARGS),
+                    )
+                )
+    for path in config.paths:
+        episodes = budget.transfer_episodes[path]
+        record = tuple(e for e in PAPER_TRAJECTORY_EPISODES[path] if e < episodes)
+        if episodes - 1 not in record:
+            record += (episodes - 1,)  # the last training episode, to show where the budget ends
+        for agent in config.agents:
+            for seed in range(config.seeds):
+                prior_seed = seed if config.prior_per_seed else 0
+                deps = tuple(prior_run_id(t.format(path=path), prior_seed) for t in AGENTS[agent])
+                runs.append(
+                    RunSpec(
+                        run_id=f"{agent}-{path}-s{seed}",
+                        kind="transfer",
+                        agent=agent,
+                        path=path,
+                        env_id=PLANNING_ENVS[path],
+                        seed=seed,
+                        episodes=episodes,
+                        deps=deps,
+                        record_episodes=record,
+                        eval_tasks=EVAL_TASKS[path],
+                        eval_episodes=budget.eval_episodes,
+                        trace_episodes=budget.trace_episodes,
+                        sac_kwargs=dict(SAC_KWARGS),
+                    )
+                )
+        for agent in BASELINES:
+            runs.append(
+                RunSpec(
+                    run_id=f"{agent}-{path}",
+                    kind="baseline",
+                    agent=agent,
+                    path=path,
+                    env_id=PLANNING_ENVS[path],
+                    seed=0,
+                    episodes=0,
+                    eval_tasks=EVAL_TASKS[path],
+                    eval_episodes=budget.eval_episodes,
+                    trace_episodes=budget.trace_episodes,
+                )
+            )
+    return runs

@@ -1,0 +1,243 @@
+"""``python -m sb3_pnn.train`` and ``python -m sb3_pnn.enjoy``: rl_zoo3's commands, with our algos.
+
+Both take every flag of ``python -m rl_zoo3.train`` / ``rl_zoo3.enjoy`` and these of ours:
+
+train:
+  --priors A.zip [B.zip]      prior checkpoints, replacing the config's ``priors:`` (same order)
+  --tune NAME=LOW:HIGH        tuning bounds (repeatable), e.g. ``--tune d_th=5:20``;
+                              NAME=VALUE fixes it, NAME=none leaves it untuned
+  --tune-sac                  also tune the usual SAC settings (learning rate, gamma, ...)
+  --heartbeat-interval S      heartbeat of a database ``--storage`` (default 60 s)
+  --grace-period S            a RUNNING trial without heartbeat for S seconds is marked FAIL
+                              (default 2 x heartbeat interval)
+
+enjoy:
+  --record PATH               record the agent headless (render_mode="rgb_array") to a video
+                              (.mp4 needs imageio-ffmpeg; .gif needs only pillow)
+  --fps N                     frames per second of the recording (default 20)
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import importlib
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import gymnasium as gym
+
+from sb3_pnn.zoo.errors import ZooUsageError
+
+TRAIN_PROG = "python -m sb3_pnn.train"
+ENJOY_PROG = "python -m sb3_pnn.enjoy"
+
+
+def _our_train_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog=TRAIN_PROG, add_help=False)
+    ours = parser.add_argument_group("sb3_pnn options (besides rl_zoo3's, listed below)")
+    ours.add_argument("--priors", nargs="+", metavar="ZIP", help="prior checkpoints, in order")
+    ours.add_argument(
+        "--tune",
+        action="append",
+        metavar="NAME=LOW:HIGH",
+        help="-optimize bounds of d_th, sigma, own_weight, temperature (or a SAC setting); "
+        "NAME=VALUE fixes it, NAME=none leaves it untuned (repeatable)",
+    )
+    ours.add_argument("--tune-sac", action="store_true", help="also tune the SAC settings")
+    ours.add_argument(
+        "--heartbeat-interval",
+        type=int,
+        default=60,
+        metavar="S",
+        help="heartbeat of trials in a database --storage (default 60 s)",
+    )
+    ours.add_argument(
+        "--grace-period",
+        type=int,
+        default=None,
+        metavar="S",
+        help="a RUNNING trial silent for S seconds is marked FAIL (default 2 x heartbeat)",
+    )
+    return parser
+
+
+def _common_parser() -> argparse.ArgumentParser:
+    """The zoo flags we check before the zoo sees them."""
+    parser = argparse.ArgumentParser(add_help=False)
+    parser.add_argument("--algo")
+    parser.add_argument("--env")
+    parser.add_argument("-conf", "--conf-file")
+    parser.add_argument("--gym-packages", nargs="+", default=[])
+    return parser
+
+
+def check_algo_and_env(algo: str | None, env_id: str | None, gym_packages: list[str]) -> None:
+    """Refuse a missing or unknown ``--algo`` / ``--env`` with one clear line."""
+    import rl_zoo3
+
+    from sb3_pnn.zoo.registry import OUR_ALGOS
+
+    ours = ", ".join(OUR_ALGOS)
+    if not algo:
+        raise ZooUsageError(f"--algo is required: one of {ours} (or an rl_zoo3 algo)")
+    if algo not in rl_zoo3.ALGOS:
+        others = ", ".join(a for a in rl_zoo3.ALGOS if a not in OUR_ALGOS)
+        raise ZooUsageError(f"unknown algo {algo!r}: expected one of {ours} (rl_zoo3's: {others})")
+    for module in gym_packages:
+        try:
+            importlib.import_module(module)
+        except ImportError as error:
+            raise ZooUsageError(f"--gym-packages {module!r} cannot be imported: {error}") from None
+    if not env_id:
+        raise ZooUsageError("--env is required, e.g. --env rov_envs/PlanningStraight-v0")
+    registered = list(gym.envs.registry.keys())
+    if env_id not in gym.envs.registry:
+        ours_envs = sorted(e for e in registered if e.startswith("rov_envs/"))
+        close = difflib.get_close_matches(env_id, registered, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise ZooUsageError(
+            f"unknown env id {env_id!r}: {hint}rov_envs tasks: {', '.join(ours_envs) or 'none'}"
+        )
+
+
+@contextmanager
+def _argv(argv: list[str]) -> Iterator[None]:
+    saved = sys.argv
+    sys.argv = argv
+    try:
+        yield
+    finally:
+        sys.argv = saved
+
+
+@contextmanager
+def _zoo_manager(manager: type) -> Iterator[None]:
+    import rl_zoo3.train
+
+    saved = rl_zoo3.train.ExperimentManager
+    rl_zoo3.train.ExperimentManager = manager
+    try:
+        yield
+    finally:
+        rl_zoo3.train.ExperimentManager = saved
+
+
+def train_main(argv: list[str] | None = None) -> None:
+    """Parse our flags, check the input, then run ``rl_zoo3.train.train()`` with our manager."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = _our_train_parser()
+    ours, rest = parser.parse_known_args(argv)
+    if "-h" in rest or "--help" in rest:
+        parser.print_help()
+        print()
+    import rl_zoo3.train
+
+    from sb3_pnn.zoo.configs import default_config_path
+    from sb3_pnn.zoo.experiment import PNNExperimentManager, ZooOptions
+    from sb3_pnn.zoo.registry import OUR_ALGOS, register_algos
+    from sb3_pnn.zoo.tuning import parse_cli_bounds
+
+    register_algos()
+    if not ("-h" in rest or "--help" in rest):
+        common, _ = _common_parser().parse_known_args(rest)
+        check_algo_and_env(common.algo, common.env, common.gym_packages)
+        if common.conf_file is None and common.algo in OUR_ALGOS:
+            rest += ["--conf-file", str(default_config_path(common.algo))]
+    options = ZooOptions(
+        priors=ours.priors,
+        tune=parse_cli_bounds(ours.tune),
+        tune_sac=ours.tune_sac,
+        heartbeat_interval=ours.heartbeat_interval,
+        grace_period=ours.grace_period,
+    )
+    manager = type("TrainExperimentManager", (PNNExperimentManager,), {"options": options})
+    with _argv([TRAIN_PROG, *rest]), _zoo_manager(manager):
+        rl_zoo3.train.train()
+
+
+def _without_option(argv: list[str], option: str) -> list[str]:
+    """``argv`` without ``option VALUE`` / ``option=VALUE``."""
+    result: list[str] = []
+    skip = False
+    for item in argv:
+        if skip:
+            skip = False
+        elif item == option:
+            skip = True
+        elif not item.startswith(option + "="):
+            result.append(item)
+    return result
+
+
+def _enjoy_parser() -> argparse.ArgumentParser:
+    """rl_zoo3.enjoy's flags that the recording path honours, plus ours."""
+    from rl_zoo3.utils import StoreDict
+
+    parser = argparse.ArgumentParser(prog=ENJOY_PROG, add_help=False)
+    ours = parser.add_argument_group("sb3_pnn options (besides rl_zoo3's, listed below)")
+    ours.add_argument("--record", metavar="PATH", help="record a video headless to PATH")
+    ours.add_argument("--fps", type=int, default=20, help="frames per second of the recording")
+    zoo = parser.add_argument_group("rl_zoo3.enjoy flags honoured when recording")
+    zoo.add_argument("--env")
+    zoo.add_argument("--algo")
+    zoo.add_argument("-f", "--folder", default="logs")
+    zoo.add_argument("-n", "--n-timesteps", type=int, default=1000)
+    zoo.add_argument("--exp-id", type=int, default=0)
+    zoo.add_argument("--load-best", action="store_true")
+    zoo.add_argument("--load-checkpoint", type=int)
+    zoo.add_argument("--load-last-checkpoint", action="store_true")
+    zoo.add_argument("--deterministic", action="store_true")
+    zoo.add_argument("--stochastic", action="store_true")
+    zoo.add_argument("--seed", type=int, default=0)
+    zoo.add_argument("--device", default="auto")
+    zoo.add_argument("--verbose", type=int, default=1)
+    zoo.add_argument("--no-render", action="store_true")
+    zoo.add_argument("--gym-packages", nargs="+", default=[])
+    zoo.add_argument("--env-kwargs", nargs="+", action=StoreDict)
+    return parser
+
+
+def enjoy_main(argv: list[str] | None = None) -> None:
+    """Run ``rl_zoo3.enjoy.enjoy()`` with our algos, or record a video with ``--record``."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = _enjoy_parser()
+    wants_help = "-h" in argv or "--help" in argv
+    from sb3_pnn.zoo.registry import register_algos
+
+    register_algos()
+    if wants_help:
+        parser.print_help()
+        print()
+        import rl_zoo3.enjoy
+
+        with _argv([ENJOY_PROG, "--help"]):
+            rl_zoo3.enjoy.enjoy()
+        return
+    args, rest = parser.parse_known_args(argv)
+    check_algo_and_env(args.algo, args.env, args.gym_packages)
+    if args.record is None and not args.no_render:
+        modes = gym.make(args.env).metadata.get("render_modes", [])
+        if "human" not in modes:
+            raise ZooUsageError(
+                f"{args.env} has no window to render to (render modes: {modes}): pass "
+                "--record PATH.mp4 (or .gif) to record a video, or --no-render"
+            )
+    from sb3_pnn.zoo.video import find_model
+
+    find_model(args)  # a clear error when there is nothing to load
+    if args.record is None:
+        import rl_zoo3.enjoy
+
+        zoo_argv = _without_option(argv, "--fps")
+        if not any(a in ("-f", "--folder") for a in argv):
+            zoo_argv += ["--folder", args.folder]  # not the zoo's hub-downloading default
+        with _argv([ENJOY_PROG, *zoo_argv]):
+            rl_zoo3.enjoy.enjoy()
+        return
+    if rest:
+        raise ZooUsageError(f"--record does not support {' '.join(rest)}")
+    from sb3_pnn.zoo.video import record
+
+    record(args)

@@ -1,0 +1,126 @@
+"""The natively batched env equals N single envs under the same seeds; SB3 adapter works."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from rov_envs.sb3 import RovSB3VecEnv
+from rov_envs.vector import RovVectorEnv
+
+KW = {"sonar_noise": 0.5, "start_noise": (0.5, 0.1), "max_episode_seconds": 20.0}
+
+
+def _actions(rng: np.random.Generator, n: int, continuous: bool) -> np.ndarray:
+    if continuous:
+        return rng.uniform(-1, 1, size=(n, 2)).astype(np.float32)
+    return rng.integers(0, 5, size=n)
+
+
+@pytest.mark.parametrize(
+    ("env_id", "continuous"),
+    [
+        ("rov_envs/PlanningSineDense-v0", False),
+        ("rov_envs/ObstacleAvoidance-v0", False),
+        ("rov_envs/PlanningStraight-v0", True),
+        ("rov_envs/PathFollowingSine-v0", False),
+    ],
+)
+def test_batched_equals_single(env_id: str, continuous: bool) -> None:
+    n = 3
+    venv = gym.make_vec(
+        env_id, num_envs=n, vectorization_mode="vector_entry_point", continuous=continuous, **KW
+    )
+    assert isinstance(venv, RovVectorEnv)
+    singles = [gym.make(env_id, continuous=continuous, **KW) for _ in range(n)]
+    vobs, _ = venv.reset(seed=7)
+    for i, env in enumerate(singles):
+        obs, _ = env.reset(seed=7 + i)
+        for k in obs:
+            np.testing.assert_array_equal(obs[k], vobs[k][i])
+        np.testing.assert_array_equal(env.unwrapped.obstacles, venv.batch.vehicle_obstacles(i))
+    rng = np.random.default_rng(0)
+    pending = [False] * n
+    ends = 0
+    for _ in range(250):  # 100 steps per episode: several autoresets
+        acts = _actions(rng, n, continuous)
+        vobs, vr, vterm, vtrunc, vinfo = venv.step(acts)
+        for i, env in enumerate(singles):
+            if pending[i]:
+                obs, info = env.reset()
+                r, term, trunc = 0.0, False, False
+                pending[i] = False
+            else:
+                obs, r, term, trunc, info = env.step(acts[i])
+                if term or trunc:
+                    pending[i] = True
+                    ends += 1
+                    assert vinfo["_is_success"][i]
+                    assert vinfo["is_success"][i] == info["is_success"]
+            for k in obs:
+                np.testing.assert_array_equal(obs[k], vobs[k][i])
+            assert (r, term, trunc) == (vr[i], vterm[i], vtrunc[i])
+            np.testing.assert_array_equal(info["position"], vinfo["position"][i])
+            assert info["cross_track"] == vinfo["cross_track"][i]
+    assert ends >= n
+
+
+def test_vector_infos_are_arrays() -> None:
+    venv = gym.make_vec(
+        "rov_envs/PlanningStraight-v0", num_envs=4, vectorization_mode="vector_entry_point"
+    )
+    venv.reset(seed=0)
+    obs, r, term, trunc, info = venv.step(np.full(4, 2))
+    assert obs["path"].shape == (4, 2) and obs["sonar"].shape == (4, 9)
+    assert r.shape == (4,) and term.dtype == bool
+    assert info["position"].shape == (4, 2) and info["velocity"].shape == (4, 3)
+    assert info["_position"].all()
+    assert not info["_is_success"].any()
+    assert venv.observation_space.contains(obs)
+
+
+def test_sb3_adapter_same_step_reset() -> None:
+    venv = RovSB3VecEnv(2, "rov_envs/PathFollowingStraight-v0", max_episode_seconds=2.0)
+    venv.seed(3)
+    obs = venv.reset()
+    single = gym.make("rov_envs/PathFollowingStraight-v0", max_episode_seconds=2.0)
+    sobs, _ = single.reset(seed=3)
+    np.testing.assert_array_equal(obs["path"][0], sobs["path"])
+    for k in range(10):
+        obs, rewards, dones, infos = venv.step(np.array([2, 2]))
+        sobs, sr, st, str_, sinfo = single.step(2)
+        assert rewards.dtype == np.float32 and rewards[0] == np.float32(sr)
+        if k < 9:
+            assert not dones.any() and infos[0] == {}
+    assert dones.all()
+    info = infos[0]
+    np.testing.assert_array_equal(info["terminal_observation"]["path"], sobs["path"])
+    assert info["TimeLimit.truncated"] is True and info["is_success"] is False
+    assert info["episode"]["l"] == 10
+    # the returned observation is already the next episode's first one
+    sobs, _ = single.reset()
+    np.testing.assert_array_equal(obs["path"][0], sobs["path"])
+    assert venv.get_attr("render_mode") == [None, None]
+
+
+def test_sb3_algorithm_runs_on_adapter() -> None:
+    from stable_baselines3 import DQN
+
+    venv = RovSB3VecEnv(4, "PlanningStraight", max_episode_seconds=4.0)
+    model = DQN("MultiInputPolicy", venv, learning_starts=16, buffer_size=1000, seed=0)
+    model.learn(total_timesteps=200)
+    assert model.num_timesteps >= 200
+    assert len(model.ep_info_buffer) > 0
+    assert len(model.ep_success_buffer) > 0
+
+
+def test_vector_bad_actions() -> None:
+    venv = RovVectorEnv(2, "PlanningStraight")
+    venv.reset(seed=0)
+    with pytest.raises(ValueError, match="actions"):
+        venv.step(np.array([0, 7]))
+    with pytest.raises(ValueError, match="actions"):
+        venv.step(np.array([0]))
+    with pytest.raises(ValueError, match="num_envs"):
+        RovVectorEnv(0, "PlanningStraight")

@@ -1,0 +1,69 @@
+"""``python -m sb3_pnn.evaluate``: table, JSON output, model zips, and one-line errors (exit 2)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import gymnasium as gym
+import pytest
+
+import rov_envs  # noqa: F401
+from sb3_pnn.evaluate import run
+
+
+def test_baseline_table_and_json(tmp_path, capsys):
+    out = tmp_path / "r.json"
+    rc = run(["--model", "pid", "--env", "PathFollowingSine-v0", "--episodes", "2",
+              "--seed", "3", "--record", "1", "--out", str(out)])  # fmt: skip
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "success rate" in text and "100.0 %" in text and "rov_envs/PathFollowingSine-v0" in text
+    data = json.loads(out.read_text())
+    assert data["n_episodes"] == 2 and data["seed"] == 3 and len(data["trajectories"]) == 1
+
+
+def test_model_zip_is_loaded(tmp_path, capsys):
+    from sb3_pnn import DiscreteSAC
+
+    env = gym.make("rov_envs/PathFollowingStraight-v0")
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}, seed=0).save(
+        tmp_path / "m.zip"
+    )
+    rc = run(["--model", str(tmp_path / "m"), "--env", "PathFollowingStraight-v0",
+              "--episodes", "2"])  # fmt: skip
+    assert rc == 0
+    assert "policy" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("argv", "needle"),
+    [
+        (["--model", "pid", "--env", "NoSuchTask-v0"], "--env"),
+        (["--model", "/no/such/model.zip", "--env", "PlanningSine-v0"], "no such file"),
+        (["--model", "pid", "--env", "PlanningSine-v0", "--episodes", "0"], "--episodes"),
+        (["--model", "pid", "--env", "PlanningSine-v0", "--seed", "-2"], "--seed"),
+    ],
+)
+def test_bad_input_gives_one_line_and_exit_code_2(argv, needle, capsys):
+    assert run(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("error:") and needle in err
+
+
+def test_not_a_model_zip_is_a_usage_error(tmp_path, capsys):
+    bad = tmp_path / "bad.zip"
+    bad.write_bytes(b"not a zip")
+    assert run(["--model", str(bad), "--env", "PlanningSine-v0"]) == 2
+    assert "cannot load" in capsys.readouterr().err
+
+
+def test_module_entry_point_exit_code():
+    proc = subprocess.run(
+        [sys.executable, "-m", "sb3_pnn.evaluate", "--model", "pid", "--env", "Nope-v0"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 2 and proc.stderr.strip().startswith("error: --env")

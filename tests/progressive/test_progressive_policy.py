@@ -1,0 +1,113 @@
+"""PNN (eq. 13): laterals matter, prior columns stay frozen bit for bit, no optimizer sees them."""
+
+from __future__ import annotations
+
+import torch as th
+import torch.nn.functional as F
+from pnn_toys import ToyRovEnv, batch
+
+from sb3_pnn import DiscreteSAC, ProgressivePolicy
+from sb3_pnn.progressive.columns import FrozenColumn
+
+
+def _model(priors, **kwargs):
+    kw = dict(priors=[priors["pf_dqn"], priors["oa_dsac"]], net_arch=[32, 24])
+    kw.update(kwargs)
+    return DiscreteSAC(
+        ProgressivePolicy,
+        ToyRovEnv(),
+        policy_kwargs=kw,
+        learning_starts=20,
+        buffer_size=1000,
+        batch_size=16,
+        gradient_steps=2,
+        seed=0,
+    )
+
+
+def _new_column_alone(net, features):
+    h = features
+    for i, layer in enumerate(net.layers):
+        h = layer(h)
+        if i < len(net.layers) - 1:
+            h = F.relu(h)
+    return h
+
+
+def test_laterals_change_the_output_and_zeroing_them_restores_the_plain_column(priors):
+    model = _model(priors)
+    policy = model.policy
+    obs, _ = policy.obs_to_tensor(batch(policy.observation_space, 8))
+    with th.no_grad():
+        logits = policy.actor(obs)
+        q = policy.critic(obs)
+        saved = {k: v.clone() for k, v in policy.state_dict().items()}
+        policy.actor.net.zero_laterals_()
+        for q_net in policy.critic.q_networks:
+            q_net.zero_laterals_()
+        plain = policy.actor(obs)
+        features = policy.actor.features_extractor(obs)
+        assert not th.allclose(plain, logits)
+        assert th.allclose(plain, _new_column_alone(policy.actor.net, features), atol=1e-6)
+        assert not th.allclose(policy.critic(obs)[1], q[1])
+        policy.load_state_dict(saved)
+        assert th.equal(policy.actor(obs), logits)
+
+
+def test_laterals_reach_every_layer_including_the_output(priors):
+    net = _model(priors).policy.actor.net
+    # layer 0 has none (input layer); hidden layer 1 and the output layer read both priors
+    assert net.sources == [[None, None], [0, 0], [1, 1]]
+    assert net.laterals["1_0"].in_features == 16 and net.laterals["1_1"].in_features == 8
+    assert net.laterals["2_1"].out_features == 5
+
+
+def _prior_buffers(policy):
+    return {name: t.clone() for name, t in policy.state_dict().items() if ".priors." in name}
+
+
+def test_priors_frozen_bit_for_bit_and_in_no_optimizer(priors):
+    model = _model(priors)
+    policy = model.policy
+    before = _prior_buffers(policy)
+    new_before = {n: p.detach().clone() for n, p in policy.named_parameters()}
+    # 2 priors x 3 Linear layers x (W, b) in the actor, 2 critic and 2 target Q-networks
+    assert len(before) == 12 * 5
+    model.learn(200)
+    after = _prior_buffers(policy)
+    assert before.keys() == after.keys()
+    for name in before:
+        assert th.equal(before[name], after[name]), name
+    changed = [n for n, p in policy.named_parameters() if not th.equal(p, new_before[n])]
+    assert any(n.startswith("actor.net.layers") for n in changed)
+    assert any(n.startswith("critic.q_networks") and "laterals" in n for n in changed)
+    # Priors are buffers of FrozenColumn modules: no parameter of theirs exists to optimize
+    frozen = [m for m in policy.modules() if isinstance(m, FrozenColumn)]
+    assert len(frozen) == 1 * 2 + 2 * 2 * 2  # actor, critic and target: 2 priors each
+    assert all(len(list(m.parameters())) == 0 for m in frozen)
+    assert not any(t.requires_grad for m in frozen for t in m.buffers())
+    optimized = {
+        id(p)
+        for opt in (policy.actor.optimizer, policy.critic.optimizer)
+        for g in opt.param_groups
+        for p in g["params"]
+    }
+    prior_tensors = {id(t) for m in frozen for t in m.buffers()}
+    assert not optimized & prior_tensors
+    trainable = {
+        id(p) for p in [*policy.actor.parameters(), *policy.critic.parameters()] if p.requires_grad
+    }
+    assert optimized == trainable
+
+
+def test_prior_columns_always_in_eval_mode(priors):
+    policy = _model(priors).policy
+    policy.set_training_mode(True)
+    assert policy.actor.training
+    assert all(not m.training for m in policy.modules() if isinstance(m, FrozenColumn))
+
+
+def test_fixed_lateral_scale_is_eq13_exactly(priors):
+    policy = _model(priors, learn_lateral_scale=False).policy
+    assert "lateral_scale" not in dict(policy.actor.net.named_parameters())
+    assert th.equal(policy.actor.net.lateral_scale, th.ones(3, 2))

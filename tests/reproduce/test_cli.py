@@ -1,0 +1,84 @@
+"""The command line: bad arguments, and a whole (stand-in or tiny real) study to report.md."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+from reproduce_standins import fake_work
+
+from sb3_pnn.reproduce.cli import main
+
+
+@pytest.mark.parametrize(
+    ("argv", "match"),
+    [(["--seeds", "0"], "--seeds must be an integer >= 1, got 0"),
+     (["--jobs", "0"], "--jobs must be an integer >= 1, got 0"),
+     (["--jobs", "two"], "--jobs must be an integer >= 1, got 'two'"),
+     (["--episodes", "-3"], "--episodes must be an integer >= 1, got -3")],
+)  # fmt: skip
+def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main([*argv, "--out", str(tmp_path)])
+    assert exc.value.code == 2
+    assert match in capsys.readouterr().err
+
+
+def test_unwritable_out(capsys, tmp_path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(SystemExit) as exc:
+        main(["--tiny", "--out", str(blocker / "sub")])
+    assert exc.value.code == 2
+    assert "not a writable folder" in capsys.readouterr().err
+
+
+def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
+    out = tmp_path / "study"
+    argv = ["--tiny", "--seeds", "2", "--eval-episodes", "10", "--jobs", "2", "--no-progress"]
+    rc = main([*argv, "--out", str(out)], work=fake_work)
+    assert rc == 0
+    printed = capsys.readouterr().out
+    assert f"report: {(out / 'report.md').resolve()}" in printed
+    report = (out / "report.md").read_text()
+    assert "## Figure 20" in report and "| SPNN |" in report
+    assert "100 % / 98 % / 98 %" in report  # the paper's SPNN row beside ours
+    assert "90 % [" in report  # stand-in SPNN success pooled with its Wilson interval
+    names = {p.name for p in (out / "figures").iterdir()}
+    expected = {
+        "fig10_learning_curves.png",
+        "fig11_training_trajectories_straight.png",
+        "fig14_training_trajectories_sine.png",
+        "fig12_straight_original.png",
+        "fig13_straight_path_following.png",
+        "fig15_sine_original.png",
+        "fig16_sine_path_following.png",
+        "fig17_straight_uniform.png",
+        "fig18_straight_dense.png",
+        "fig19_sine_dense.png",
+        "fig20_success_rates.png",
+    }
+    assert expected <= names
+    # a second call with a changed budget in the same folder refuses to overwrite
+    rc = main(["--tiny", "--seeds", "2", "--episodes", "9", "--no-progress", "--out", str(out)],
+              work=fake_work)  # fmt: skip
+    assert rc == 2
+    assert "never overwritten" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_tiny_real_study_end_to_end(tmp_path) -> None:
+    """The real runs (DiscreteSAC, SAC-Multi, PNN, SPNN, PID) on a tiny budget, via the module."""
+    out = tmp_path / "study"
+    proc = subprocess.run(
+        [sys.executable, "-m", "sb3_pnn.reproduce", "--tiny", "--seeds", "1", "--jobs", "2",
+         "--no-progress", "--out", str(out)],
+        capture_output=True, text=True, timeout=240,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "report: " in proc.stdout
+    report = (out / "report.md").read_text()
+    assert "failed: 0" in report
+    assert (out / "figures" / "fig20_success_rates.png").is_file()
+    assert (out / "runs" / "spnn-sine-s0" / "model.zip").is_file()

@@ -1,0 +1,91 @@
+"""The shipped zoo_configs: every task each algo applies to, the paper's settings, valid entries."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import rov_envs
+from sb3_pnn import DiscreteSAC
+from sb3_pnn.zoo.configs import (
+    CONFIG_ENV_VAR,
+    default_config_path,
+    load_config_file,
+    validate_entry,
+)
+from sb3_pnn.zoo.errors import ZooUsageError
+from sb3_pnn.zoo.priors import PriorRef, parse_prior
+from sb3_pnn.zoo.registry import OUR_ALGOS
+
+PLANNING = [e for e in rov_envs.ENV_IDS if "/Planning" in e]
+APPLIES = {"dsac": list(rov_envs.ENV_IDS), "sac_multi": PLANNING, "pnn": PLANNING, "spnn": PLANNING}
+PAPER = {
+    "learning_rate": 3e-4,
+    "tau": 0.005,
+    "gamma": 0.99,
+    "ent_coef": "auto_0.2",
+    "buffer_size": 1_000_000,
+    "batch_size": 256,
+    "train_freq": [1, "episode"],
+    "gradient_steps": 10,
+}
+
+
+def entries(algo: str) -> dict:
+    return load_config_file(default_config_path(algo))
+
+
+@pytest.mark.parametrize("algo", list(OUR_ALGOS))
+def test_every_task_the_algo_applies_to_has_a_valid_paper_entry(algo: str) -> None:
+    config = entries(algo)
+    path = default_config_path(algo)
+    assert path.parent.name == "zoo_configs"
+    for env_id in APPLIES[algo]:
+        entry = validate_entry(
+            config[env_id], name=env_id, path=path, algo=algo, algo_class=OUR_ALGOS[algo]
+        )
+        for key, value in PAPER.items():
+            assert entry[key] == value, (algo, env_id, key)
+        if algo != "sac_multi":  # SAC-Multi takes its architecture from the prior
+            assert entry["policy_kwargs"]["net_arch"] == [255, 255]
+        assert entry["n_timesteps"] > 0
+
+
+@pytest.mark.parametrize("algo", ["pnn", "spnn", "sac_multi"])
+def test_priors_match_the_task(algo: str) -> None:
+    for env_id, entry in entries(algo).items():
+        if env_id not in PLANNING:
+            continue
+        priors = [parse_prior(item, env_id) for item in entry["priors"]]
+        assert all(isinstance(p, PriorRef) and p.algo == "dsac" for p in priors)
+        sine = "Sine" in env_id
+        expected = "rov_envs/PathFollowingSine-v0" if sine else "rov_envs/PathFollowingStraight-v0"
+        assert priors[0].env == expected
+        if algo == "spnn":
+            assert [p.env for p in priors[1:]] == ["rov_envs/ObstacleAvoidance-v0"]
+            pk = entry["policy_kwargs"]
+            assert (pk["d_th"], pk["sigma"], pk["own_weight"], pk["gate"]) == (
+                12.5,
+                0.5,
+                0.5,
+                "hard",
+            )
+        else:
+            assert len(priors) == 1
+
+
+def test_config_folder_override(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "dsac.yml").write_text("default:\n  n_timesteps: 10\n")
+    monkeypatch.setenv(CONFIG_ENV_VAR, str(tmp_path))
+    assert default_config_path("dsac") == tmp_path / "dsac.yml"
+    assert default_config_path("spnn").parent.name == "zoo_configs"  # falls back
+    with pytest.raises(ZooUsageError, match="no configuration file for algo 'nope'"):
+        default_config_path("nope")
+
+
+def test_unknown_key_lists_the_accepted_ones() -> None:
+    with pytest.raises(ZooUsageError, match="unknown hyperparameter 'lr'.*learning_rate"):
+        validate_entry(
+            {"n_timesteps": 1, "lr": 1}, name="x", path="f.yml", algo="dsac", algo_class=DiscreteSAC
+        )
