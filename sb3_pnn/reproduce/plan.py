@@ -230,14 +230,32 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         sac_kwargs=dict(SAC_KWARGS),
                     )
                 )
+    # baselines next (cheap, no dependencies), then the learners seed by seed, so that an
+    # interrupted study has every agent on both tasks for its first seeds
     for path in config.paths:
-        episodes = budget.transfer_episodes[path]
-        record = tuple(e for e in PAPER_TRAJECTORY_EPISODES[path] if e < episodes)
-        if episodes - 1 not in record:
-            record += (episodes - 1,)  # the last training episode, to show where the budget ends
-        for agent in config.agents:
-            for seed in range(config.seeds):
-                prior_seed = seed if config.prior_per_seed else 0
+        for agent in BASELINES:
+            runs.append(
+                RunSpec(
+                    run_id=f"{agent}-{path}",
+                    kind="baseline",
+                    agent=agent,
+                    path=path,
+                    env_id=PLANNING_ENVS[path],
+                    seed=0,
+                    episodes=0,
+                    eval_tasks=EVAL_TASKS[path],
+                    eval_episodes=budget.eval_episodes,
+                    trace_episodes=budget.trace_episodes,
+                )
+            )
+    for seed in range(config.seeds):
+        for path in config.paths:
+            episodes = budget.transfer_episodes[path]
+            record = tuple(e for e in PAPER_TRAJECTORY_EPISODES[path] if e < episodes)
+            if episodes - 1 not in record:
+                record += (episodes - 1,)  # the last training episode: where the budget ends
+            prior_seed = seed if config.prior_per_seed else 0
+            for agent in config.agents:
                 deps = tuple(prior_run_id(t.format(path=path), prior_seed) for t in AGENTS[agent])
                 runs.append(
                     RunSpec(
@@ -256,19 +274,4 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         sac_kwargs=dict(SAC_KWARGS),
                     )
                 )
-        for agent in BASELINES:
-            runs.append(
-                RunSpec(
-                    run_id=f"{agent}-{path}",
-                    kind="baseline",
-                    agent=agent,
-                    path=path,
-                    env_id=PLANNING_ENVS[path],
-                    seed=0,
-                    episodes=0,
-                    eval_tasks=EVAL_TASKS[path],
-                    eval_episodes=budget.eval_episodes,
-                    trace_episodes=budget.trace_episodes,
-                )
-            )
     return runs

@@ -27,6 +27,8 @@ from sb3_pnn.reproduce.stats import (
 
 #: Return threshold = this fraction of the adaptive PID's mean evaluation return on the task.
 THRESHOLD_FRACTION = 0.8
+#: Training episodes at the end of each run whose end reasons the report counts.
+LAST_EPISODES = 20
 TASK_TITLES = {
     "original": "original planning task",
     "path_following": "path following, no obstacles",
@@ -114,8 +116,8 @@ def route_table(results: StudyResults) -> list[str]:
     """Mean |g| and |a_c| per policy and task (means over seeds of the evaluation means)."""
     lines = [
         "| path | task | policy | mean abs(g) (m) | max abs(g) (m) | mean abs(a_c) (deg) "
-        "| time to target (s) | collisions |",
-        "|---|---|---|---|---|---|---|---|",
+        "| time to target (s) | collisions | episodes ended by |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for path, tasks in EVAL_TASKS.items():
         for label, _, _ in tasks:
@@ -139,11 +141,18 @@ def route_table(results: StudyResults) -> list[str]:
                 ]
                 he_s = f"{math.degrees(sum(he) / len(he)):.1f}" if he else "-"
                 coll = sum(int(e.get("collisions", 0)) for e in evs)
+                end_counts: dict[str, int] = {}
+                for e in evs:
+                    for reason, count in (e.get("end_reasons") or {}).items():
+                        end_counts[reason] = end_counts.get(reason, 0) + int(count)
+                ends = ", ".join(
+                    f"{k} {v}" for k, v in sorted(end_counts.items(), key=lambda kv: -kv[1])
+                )
                 n = sum(int(e["n_episodes"]) for e in evs)
                 lines.append(
                     f"| {path} | {TASK_TITLES[label]} | {AGENT_LABELS[agent]} | "
                     f"{avg('mean_abs_cross_track')} | {avg('max_abs_cross_track')} | {he_s} | "
-                    f"{avg('mean_time_to_target')} | {coll}/{n} |"
+                    f"{avg('mean_time_to_target')} | {coll}/{n} | {ends} |"
                 )
     return lines
 
@@ -159,6 +168,14 @@ def thresholds(results: StudyResults) -> dict[str, float | None]:
     return out
 
 
+def _end_counts(runs: list[Any]) -> str:
+    counts: dict[str, int] = {}
+    for r in runs:
+        for reason in r.episodes["end_reasons"][-LAST_EPISODES:]:
+            counts[reason] = counts.get(reason, 0) + 1
+    return ", ".join(f"{k} {v}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
+
+
 def learning_speed(
     results: StudyResults,
 ) -> tuple[list[str], dict[tuple[str, str], dict[str, Any]]]:
@@ -169,11 +186,14 @@ def learning_speed(
         f"the original task, reached by the {SMOOTH_WINDOW}-episode moving average of the training "
         "return: "
         + ", ".join(f"{p}: {'n/a' if v is None else f'{v:.0f}'}" for p, v in thr.items())
-        + ". Mean [95 % t-interval] over the seeds that reached it; 'reached' counts seeds.",
+        + ". Mean [95 % t-interval] over the seeds that reached it; 'reached' counts seeds. "
+        "A return above the threshold does not imply success (an agent that stays on the path "
+        "until the time limit also collects r_c every step): the last column shows how the final "
+        f"{LAST_EPISODES} training episodes ended, over all seeds.",
         "",
         "| path | agent | budget (episodes) | first success: reached | first success: mean [CI] | "
-        "return threshold: reached | return threshold: mean [CI] |",
-        "|---|---|---|---|---|---|---|",
+        "return threshold: reached | return threshold: mean [CI] | last episodes ended by |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     table: dict[tuple[str, str], dict[str, Any]] = {}
     for path in EVAL_TASKS:
@@ -202,7 +222,8 @@ def learning_speed(
             lines.append(
                 f"| {path} | {AGENT_LABELS[agent]} | {budget} | "
                 f"{first['reached']}/{first['runs']} | "
-                f"{fmt(first)} | {reach['reached']}/{reach['runs']} | {fmt(reach)} |"
+                f"{fmt(first)} | {reach['reached']}/{reach['runs']} | {fmt(reach)} | "
+                f"{_end_counts(runs)} |"
             )
     return lines, table
 
@@ -337,10 +358,11 @@ def cost_table(results: StudyResults) -> list[str]:
     ]
     for (kind, agent), ms in sorted(groups.items()):
         wall = sum(float(m.get("wall_s", 0.0)) for m in ms) / len(ms)
-        cpu = sum(float(m.get("cpu_s", 0.0)) for m in ms) / len(ms)
+        cpus = [float(m["cpu_s"]) for m in ms if "cpu_s" in m]
+        cpu = f"{sum(cpus) / len(cpus):.1f}" if cpus else "-"
         steps = [int(m["timesteps"]) for m in ms if m.get("timesteps") is not None]
         steps_s = f"{sum(steps) / len(steps):.0f}" if steps else "-"
-        lines.append(f"| {kind} | {agent} | {len(ms)} | {wall:.1f} | {cpu:.1f} | {steps_s} |")
+        lines.append(f"| {kind} | {agent} | {len(ms)} | {wall:.1f} | {cpu} | {steps_s} |")
     return lines
 
 

@@ -47,9 +47,13 @@ def test_bad_study_config(kwargs, match) -> None:
 
 
 def test_config_hash_changes_with_the_budget() -> None:
-    a = build_plan(StudyConfig(budget_name="quick", seeds=1))[3]
-    b = build_plan(StudyConfig(budget_name="quick", seeds=1, episodes=7))[3]
-    assert a.run_id == b.run_id and a.config_hash() != b.config_hash()
+    def pnn(config: StudyConfig):
+        return next(s for s in build_plan(config) if s.run_id == "pnn-straight-s0")
+
+    a = pnn(StudyConfig(budget_name="quick", seeds=1))
+    b = pnn(StudyConfig(budget_name="quick", seeds=1, episodes=7))
+    assert a.config_hash() != b.config_hash()
+    assert a.config_hash() == pnn(StudyConfig(budget_name="quick", seeds=3)).config_hash()
 
 
 def test_commit_is_atomic_and_never_overwrites(tmp_path) -> None:
