@@ -18,7 +18,9 @@ These are :func:`soft_td_target` and :func:`discrete_sac_losses`; ``DiscreteSAC.
 samples, runs the networks once each, steps the optimizers and averages the targets.
 """
 
+import io
 import math
+import pathlib
 from typing import Any, ClassVar, NamedTuple, TypeVar
 
 import numpy as np
@@ -48,6 +50,8 @@ from sb3_pnn.policies import (
     MlpPolicy,
     MultiInputPolicy,
 )
+from sb3_pnn.safe_io.checkpoint import load_model, model_metadata, save_with_metadata
+from sb3_pnn.safe_io.replay_buffer_io import load_buffer, save_buffer
 
 SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
 
@@ -451,6 +455,109 @@ class DiscreteSAC(OffPolicyAlgorithm):
             reset_num_timesteps=reset_num_timesteps,
             progress_bar=progress_bar,
         )
+
+    # --- checkpoints without pickle (project rule: loading never runs code from a file) -----
+    def save(
+        self,
+        path: str | pathlib.Path | io.BufferedIOBase,
+        exclude: Any = None,
+        include: Any = None,
+    ) -> None:
+        """
+        Save as SB3 does (``data``, ``policy.pth``, optimizers, ``pytorch_variables.pth``) plus
+        the JSON member ``sb3_pnn.json`` from which :meth:`load` rebuilds the model without
+        unpickling (:mod:`sb3_pnn.safe_io.checkpoint`). Refuses, before writing, a model whose
+        policy class or policy kwargs cannot be named safely (register them with
+        ``sb3_pnn.safe_io.register_policy_class`` / ``register_safe_class``).
+        """
+        meta = model_metadata(self)
+        sb3_zip = io.BytesIO()
+        super().save(sb3_zip, exclude=exclude, include=include)
+        save_with_metadata(path, sb3_zip, meta)
+
+    @classmethod
+    def load(  # type: ignore[override]
+        cls: type[SelfDiscreteSAC],
+        path: str | pathlib.Path | io.BufferedIOBase,
+        env: GymEnv | None = None,
+        device: th.device | str = "auto",
+        custom_objects: dict[str, Any] | None = None,
+        print_system_info: bool = False,
+        force_reset: bool = True,
+        trust_pickle: bool = False,
+        **kwargs: Any,
+    ) -> SelfDiscreteSAC:
+        """
+        Load a model saved by :meth:`save`, without unpickling anything from the file.
+
+        Reads only the ``sb3_pnn.json`` member and the ``.pth`` weights
+        (``torch.load(weights_only=True)``), never SB3's pickled ``data`` part; the model is
+        rebuilt through the constructor. A zip without the JSON member (an SB3 checkpoint, or
+        one saved before safe checkpoints) is refused with
+        :class:`~sb3_pnn.safe_io.checkpoint.UnsafeCheckpointError` (a ``ValueError``).
+
+        :param path: the ``.zip`` file (a path without suffix also finds ``<path>.zip``) or a
+            binary file object
+        :param env: environment to run on; its spaces must equal the saved ones
+        :param device: device of the rebuilt model
+        :param custom_objects: replacements for saved entries, as in SB3: ``learning_rate``
+            (needed when the model was trained with a custom schedule, which JSON cannot hold),
+            any other constructor argument, ``observation_space``/``action_space``;
+            ``lr_schedule``, ``exploration_schedule`` and ``clip_range`` (passed by rl_zoo3)
+            are ignored, since the model recomputes them
+        :param print_system_info: print the current system info
+        :param force_reset: accepted for SB3 compatibility; the rebuilt model never keeps the
+            last observation, so ``learn`` always starts by resetting the environment
+        :param trust_pickle: UNSAFE. Fall back to SB3's ``load``, which unpickles the
+            ``data`` part and can run arbitrary code from the file; only for files you trust
+            (e.g. to convert an old checkpoint: load once, then ``save`` again)
+        :param kwargs: overrides of constructor arguments (e.g. ``buffer_size=1``); other
+            names are set as attributes before ``_setup_model``, as SB3 does
+        """
+        if trust_pickle:
+            return super().load(  # type: ignore[return-value]
+                path,
+                env=env,
+                device=device,
+                custom_objects=custom_objects,
+                print_system_info=print_system_info,
+                force_reset=force_reset,
+                **kwargs,
+            )
+        return load_model(  # type: ignore[return-value]
+            cls, path, env, device, custom_objects, print_system_info, kwargs
+        )
+
+    def save_replay_buffer(self, path: str | pathlib.Path | io.BufferedIOBase) -> None:
+        """Save the replay buffer without pickle: an ``.npz`` archive of its arrays plus JSON
+        metadata (:mod:`sb3_pnn.safe_io.replay_buffer_io`); SB3 file naming (``.pkl`` added
+        to a path without suffix)."""
+        if self.replay_buffer is None:
+            raise ValueError("the replay buffer is not defined (model not set up)")
+        save_buffer(self.replay_buffer, path)
+
+    def load_replay_buffer(
+        self,
+        path: str | pathlib.Path | io.BufferedIOBase,
+        truncate_last_traj: bool = True,
+        trust_pickle: bool = False,
+    ) -> None:
+        """
+        Load a replay buffer written by :meth:`save_replay_buffer` with
+        ``np.load(allow_pickle=False)``. A pickle (SB3's format) is refused unless
+        ``trust_pickle=True`` (UNSAFE: unpickling can run arbitrary code from the file).
+        """
+        if trust_pickle:
+            super().load_replay_buffer(path, truncate_last_traj)
+            return
+        buffer = load_buffer(path, device=self.device)
+        expected = self.observation_space
+        if expected is not None and buffer.observation_space != expected:
+            raise ValueError(
+                f"replay buffer {path!r} holds observations of {buffer.observation_space}, "
+                f"the model expects {expected}"
+            )
+        self.replay_buffer = buffer
 
     def _excluded_save_params(self) -> list[str]:
         return [

@@ -194,4 +194,3 @@ class ProgressiveNet(nn.Module):
         with th.no_grad():
             for lat in self.laterals.values():
                 lat.weight.zero_()
-

@@ -50,6 +50,10 @@ def make_parser() -> argparse.ArgumentParser:
         description="Reproduce Pan et al. (2025) section 4.3: train PNN, SPNN, SAC-Single and "
         "SAC-Multi on the BlueROV2 planning tasks, evaluate them and the PID baselines, and "
         "write figures 10-20 and report.md.",
+        epilog="Budgets (training episodes per run; evaluation episodes per policy and task): "
+        "full = priors 150 (path following) / 200 (obstacle avoidance), agents 150, eval 50, "
+        "5 seeds; --quick = 25 / 25, eval 10, 2 seeds. A killed study resumes when rerun with "
+        "the same arguments; a changed budget needs another --out.",
     )
     parser.add_argument(
         "--quick", action="store_true", help="smoke-sized study (about 5 minutes on 2 cores)"

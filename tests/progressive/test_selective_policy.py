@@ -138,7 +138,7 @@ def test_gate_shares_reach_the_training_logs(priors):
     model = _model(priors)
     capture = _Capture()
     model.set_logger(Logger(None, [capture]))
-    model.learn(120, log_interval=1)
+    model.learn(80, log_interval=1)
     keys = set().union(*capture.records)
     for name in ("path_following", "obstacle_avoidance"):
         assert f"train/gate/batch_share_{name}" in keys

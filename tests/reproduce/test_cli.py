@@ -36,7 +36,7 @@ def test_unwritable_out(capsys, tmp_path) -> None:
 
 def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     out = tmp_path / "study"
-    argv = ["--tiny", "--seeds", "2", "--eval-episodes", "10", "--jobs", "2", "--no-progress"]
+    argv = ["--tiny", "--seeds", "1", "--eval-episodes", "10", "--jobs", "2", "--no-progress"]
     rc = main([*argv, "--out", str(out)], work=fake_work)
     assert rc == 0
     printed = capsys.readouterr().out
@@ -61,7 +61,7 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     }
     assert expected <= names
     # a second call with a changed budget in the same folder refuses to overwrite
-    rc = main(["--tiny", "--seeds", "2", "--episodes", "9", "--no-progress", "--out", str(out)],
+    rc = main(["--tiny", "--seeds", "1", "--episodes", "9", "--no-progress", "--out", str(out)],
               work=fake_work)  # fmt: skip
     assert rc == 2
     assert "never overwritten" in capsys.readouterr().err

@@ -1,0 +1,348 @@
+"""Safe DiscreteSAC checkpoints: a JSON member beside SB3's zip parts, and loading from it.
+
+Saving (:func:`save_with_metadata`) writes SB3's usual zip (``data``, ``policy.pth``, the
+optimizers' ``.pth``, ``pytorch_variables.pth``; SB3 tools keep reading it) plus the member
+:data:`JSON_MEMBER` = ``sb3_pnn.json``, which holds everything needed to rebuild the model:
+format version, the policy class by registered name, policy kwargs (:mod:`.json_codec`),
+observation and action spaces (:mod:`.spaces_codec`), the constructor's hyperparameters and the
+training counters.
+
+Loading (:func:`load_model`) reads only that member (``json``) and the ``.pth`` members through
+SB3's ``load_from_zip_file(load_data=False)``, i.e. ``torch.load(weights_only=True)``: tensors
+and plain containers, no code. The ``data`` member is never read. The model is rebuilt through
+the constructor (``_init_setup_model=False``, then ``_setup_model()``) and the state dicts are
+put back with ``set_parameters(exact_match=True)``.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import pathlib
+import pickle
+import zipfile
+from typing import TYPE_CHECKING, Any
+
+import stable_baselines3 as sb3
+import torch as th
+from gymnasium import spaces
+from stable_baselines3.common.buffers import DictReplayBuffer, NStepReplayBuffer, ReplayBuffer
+from stable_baselines3.common.save_util import load_from_zip_file, open_path, recursive_setattr
+from stable_baselines3.common.type_aliases import TrainFreq
+from stable_baselines3.common.utils import (
+    ConstantSchedule,
+    FloatSchedule,
+    LinearSchedule,
+    get_system_info,
+)
+
+from sb3_pnn.safe_io.json_codec import decode, encode, safe_class_name
+from sb3_pnn.safe_io.policy_registry import get_policy_class, policy_class_name
+from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
+
+if TYPE_CHECKING:
+    from sb3_pnn.dsac import DiscreteSAC
+
+JSON_MEMBER = "sb3_pnn.json"
+FORMAT = "sb3_pnn.DiscreteSAC"
+VERSION = 1
+
+#: Constructor arguments stored in (and rebuilt from) the JSON member
+CONSTRUCTOR_KEYS = (
+    "learning_rate", "buffer_size", "learning_starts", "batch_size", "tau", "gamma",
+    "train_freq", "gradient_steps", "replay_buffer_class", "replay_buffer_kwargs",
+    "optimize_memory_usage", "n_steps", "ent_coef", "target_entropy_ratio",
+    "target_update_interval", "stats_window_size", "tensorboard_log", "policy_kwargs",
+    "verbose", "seed",
+)  # fmt: skip
+#: Counters restored after ``_setup_model``
+STATE_KEYS = (
+    "num_timesteps", "_total_timesteps", "_num_timesteps_at_start", "_n_updates",
+    "_episode_num", "_current_progress_remaining",
+)  # fmt: skip
+#: ``custom_objects`` entries that SB3's zoo passes and that a rebuilt model recomputes anyway
+IGNORED_CUSTOM_OBJECTS = ("lr_schedule", "exploration_schedule", "clip_range", "clip_range_vf")
+
+
+class UnsafeCheckpointError(ValueError):
+    """A checkpoint that can only be loaded by unpickling (``trust_pickle=True``)."""
+
+
+# --- learning rate ------------------------------------------------------------------------
+def schedule_to_json(value: Any, current: float) -> dict[str, Any]:
+    """A float or SB3's Constant/Linear/FloatSchedule as JSON; other callables are recorded as
+    unsupported (load then asks for ``custom_objects={"learning_rate": ...}``)."""
+    if isinstance(value, FloatSchedule):
+        return schedule_to_json(value.value_schedule, current)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return {"constant": float(value)}
+    if isinstance(value, ConstantSchedule):
+        return {"constant": float(value.val)}
+    if isinstance(value, LinearSchedule):
+        return {"linear": [float(value.start), float(value.end), float(value.end_fraction)]}
+    return {"unsupported": repr(value)[:200], "value_when_saved": float(current)}
+
+
+def schedule_from_json(data: Any, where: str) -> float | LinearSchedule:
+    if isinstance(data, dict) and "constant" in data:
+        return float(data["constant"])
+    if isinstance(data, dict) and "linear" in data:
+        start, end, end_fraction = (float(v) for v in data["linear"])
+        return LinearSchedule(start, end, end_fraction)
+    if isinstance(data, dict) and "unsupported" in data:
+        raise ValueError(
+            f"{where}: the model was trained with a learning-rate schedule that a safe checkpoint "
+            f"cannot store ({data['unsupported']}; value when saved: "
+            f"{data.get('value_when_saved')}). Pass custom_objects={{'learning_rate': <float or "
+            "schedule>}} to DiscreteSAC.load"
+        )
+    raise ValueError(f"{where}: malformed learning_rate entry {data!r:.200}")
+
+
+# --- saving -------------------------------------------------------------------------------
+def _auto_buffer_class(model: DiscreteSAC) -> bool:
+    """Whether ``replay_buffer_class`` is the one ``_setup_model`` picks when given None."""
+    cls = model.replay_buffer_class
+    if isinstance(model.observation_space, spaces.Dict):
+        return cls is DictReplayBuffer
+    return cls is (NStepReplayBuffer if model.n_steps > 1 else ReplayBuffer)
+
+
+def model_metadata(model: DiscreteSAC) -> dict[str, Any]:
+    """The JSON member of ``model``'s checkpoint (ValueError naming what cannot be stored)."""
+    buffer_kwargs = dict(model.replay_buffer_kwargs)
+    buffer_class = model.replay_buffer_class
+    if _auto_buffer_class(model):
+        buffer_class = None
+        if model.n_steps > 1:  # added by _setup_model, added again on load
+            buffer_kwargs.pop("n_steps", None)
+            buffer_kwargs.pop("gamma", None)
+    elif buffer_class is not None and safe_class_name(buffer_class) is None:
+        raise ValueError(
+            f"cannot store replay_buffer_class {buffer_class!r} in a safe checkpoint: register "
+            "it with sb3_pnn.safe_io.register_safe_class"
+        )
+    train_freq = model.train_freq
+    if isinstance(train_freq, TrainFreq):
+        train_freq = (train_freq.frequency, train_freq.unit.value)
+    hyper = {
+        "buffer_size": model.buffer_size,
+        "learning_starts": model.learning_starts,
+        "batch_size": model.batch_size,
+        "tau": model.tau,
+        "gamma": model.gamma,
+        "train_freq": train_freq,
+        "gradient_steps": model.gradient_steps,
+        "replay_buffer_class": buffer_class,
+        "replay_buffer_kwargs": buffer_kwargs,
+        "optimize_memory_usage": model.optimize_memory_usage,
+        "n_steps": model.n_steps,
+        "ent_coef": model.ent_coef,
+        "target_entropy_ratio": model.target_entropy_ratio,
+        "target_update_interval": model.target_update_interval,
+        "stats_window_size": model._stats_window_size,
+        "tensorboard_log": model.tensorboard_log,
+        "policy_kwargs": model.policy_kwargs,
+        "verbose": model.verbose,
+        "seed": model.seed,
+    }
+    state_dicts, variables = model._get_torch_save_params()
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "stable_baselines3": sb3.__version__,
+        "policy_class": policy_class_name(model.policy_class),
+        "observation_space": space_to_json(model.observation_space),
+        "action_space": space_to_json(model.action_space),
+        "n_envs": int(model.n_envs),
+        "learning_rate": schedule_to_json(
+            model.learning_rate, float(model.lr_schedule(model._current_progress_remaining))
+        ),
+        "hyperparameters": {k: encode(v, k) for k, v in hyper.items()},
+        "state": {k: encode(getattr(model, k), k) for k in STATE_KEYS},
+        "target_entropy": float(model.target_entropy),
+        "state_dicts": list(state_dicts),
+        "pytorch_variables": list(variables),
+    }
+
+
+def save_with_metadata(
+    path: str | pathlib.Path | io.BufferedIOBase, sb3_zip: io.BytesIO, meta: dict[str, Any]
+) -> None:
+    """Write SB3's zip (built in memory) plus :data:`JSON_MEMBER` to ``path`` (SB3 naming: a
+    path without suffix gets ``.zip``)."""
+    with zipfile.ZipFile(sb3_zip, mode="a") as archive:
+        archive.writestr(JSON_MEMBER, json.dumps(meta, indent=1, allow_nan=False))
+    file = open_path(path, "w", verbose=0, suffix="zip")
+    try:
+        file.write(sb3_zip.getvalue())
+    finally:
+        if isinstance(path, (str, pathlib.Path)):
+            file.close()
+
+
+# --- loading ------------------------------------------------------------------------------
+def _read_bytes(path: str | os.PathLike[str] | io.BufferedIOBase) -> tuple[io.BytesIO, str]:
+    """The checkpoint's bytes and a name for messages; FileNotFoundError naming the path."""
+    if isinstance(path, (str, os.PathLike)):
+        p = pathlib.Path(path)
+        if not p.is_file() and p.suffix == "" and pathlib.Path(f"{p}.zip").is_file():
+            p = pathlib.Path(f"{p}.zip")  # as SB3: "model" finds "model.zip"
+        if not p.is_file():
+            raise FileNotFoundError(f"DiscreteSAC checkpoint {str(path)!r} does not exist")
+        return io.BytesIO(p.read_bytes()), str(p)
+    if hasattr(path, "read"):
+        return io.BytesIO(path.read()), repr(path)
+    raise ValueError(f"expected a checkpoint path or binary file object, got {path!r:.100}")
+
+
+def read_checkpoint(
+    path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
+) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any], str]:
+    """(JSON member, state dicts, pytorch variables, name) of a safe checkpoint; never reads
+    ``data``. UnsafeCheckpointError when the JSON member is missing."""
+    raw, name = _read_bytes(path)
+    try:
+        with zipfile.ZipFile(raw) as archive:
+            names = archive.namelist()
+            if JSON_MEMBER not in names:
+                what = (
+                    "a Stable-Baselines3 zip without sb3_pnn's JSON member (saved by SB3 itself, "
+                    "or by sb3_pnn before safe checkpoints)"
+                    if "data" in names
+                    else f"a zip without sb3_pnn's JSON member (members: {sorted(names)[:8]})"
+                )
+                raise UnsafeCheckpointError(
+                    f"{name!r} is {what}. Loading it needs unpickling its 'data' part, which can "
+                    "run arbitrary code, so it is refused. If you trust the file, load it with "
+                    "DiscreteSAC.load(path, trust_pickle=True) and save it again to get a safe "
+                    "checkpoint"
+                )
+            meta = json.loads(archive.read(JSON_MEMBER).decode("utf-8"))
+    except zipfile.BadZipFile as e:
+        raise ValueError(
+            f"{name!r} is not a valid zip file ({e}); expected a DiscreteSAC .zip checkpoint"
+        ) from e
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise ValueError(f"{name!r}: the {JSON_MEMBER} member is not valid JSON ({e})") from e
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ValueError(f"{name!r}: {JSON_MEMBER} is not a {FORMAT} description")
+    if meta.get("version") != VERSION:
+        raise ValueError(
+            f"{name!r}: checkpoint format version {meta.get('version')!r} is not supported "
+            f"(this sb3_pnn reads version {VERSION})"
+        )
+    raw.seek(0)
+    try:
+        _, params, variables = load_from_zip_file(raw, load_data=False, device=device)
+    except (ValueError, RuntimeError, EOFError, OSError, pickle.UnpicklingError) as e:
+        # weights_only=True refuses anything that is not tensors / plain containers
+        raise ValueError(f"{name!r}: cannot read the weights (.pth members) ({e})") from e
+    expected = set(meta.get("state_dicts", []))
+    if set(params) != expected:
+        raise ValueError(
+            f"{name!r}: expected state dicts {sorted(expected)}, found {sorted(params)}"
+        )
+    variables = variables or {}
+    if not isinstance(variables, dict) or set(variables) != set(meta.get("pytorch_variables", [])):
+        raise ValueError(
+            f"{name!r}: expected pytorch variables {meta.get('pytorch_variables')}, found "
+            f"{sorted(variables) if isinstance(variables, dict) else type(variables).__name__}"
+        )
+    return meta, params, variables, name
+
+
+def _check_env_spaces(env: Any, obs: spaces.Space, act: spaces.Space, name: str) -> None:
+    for what, saved, given in (
+        ("observation", obs, env.observation_space),
+        ("action", act, env.action_space),
+    ):
+        if saved != given:
+            raise ValueError(
+                f"the environment does not fit checkpoint {name!r}: its {what} space is {given}, "
+                f"the checkpoint's is {saved}"
+            )
+
+
+def load_model(
+    cls: type[DiscreteSAC],
+    path: str | os.PathLike[str] | io.BufferedIOBase,
+    env: Any = None,
+    device: th.device | str = "auto",
+    custom_objects: dict[str, Any] | None = None,
+    print_system_info: bool = False,
+    kwargs: dict[str, Any] | None = None,
+) -> DiscreteSAC:
+    """Rebuild a DiscreteSAC from a safe checkpoint (see the module docstring)."""
+    kwargs = dict(kwargs or {})
+    meta, params, variables, name = read_checkpoint(path, device="cpu")
+    if print_system_info:
+        print("== CURRENT SYSTEM INFO ==")
+        get_system_info()
+    where = f"checkpoint {name!r}"
+    policy_class = get_policy_class(meta.get("policy_class"), where)
+    obs_space = space_from_json(meta.get("observation_space"), f"{where} observation_space")
+    act_space = space_from_json(meta.get("action_space"), f"{where} action_space")
+    hyper_json = meta.get("hyperparameters")
+    if not isinstance(hyper_json, dict) or set(hyper_json) != set(CONSTRUCTOR_KEYS) - {
+        "learning_rate"
+    }:
+        raise ValueError(f"{where}: malformed hyperparameters entry")
+    hyper = {k: decode(v, f"{where} {k}") for k, v in hyper_json.items()}
+    buffer_class = hyper["replay_buffer_class"]
+    if buffer_class is not None and not (
+        isinstance(buffer_class, type) and issubclass(buffer_class, ReplayBuffer)
+    ):
+        raise ValueError(f"{where}: replay_buffer_class {buffer_class!r} is not a replay buffer")
+
+    custom_objects = dict(custom_objects or {})
+    for key in IGNORED_CUSTOM_OBJECTS:
+        custom_objects.pop(key, None)
+    if "learning_rate" in custom_objects:
+        hyper["learning_rate"] = custom_objects.pop("learning_rate")
+    else:
+        hyper["learning_rate"] = schedule_from_json(meta.get("learning_rate"), where)
+    for key in list(custom_objects):  # SB3: custom objects replace saved entries
+        if key in hyper:
+            hyper[key] = custom_objects.pop(key)
+    obs_space = custom_objects.pop("observation_space", obs_space)
+    act_space = custom_objects.pop("action_space", act_space)
+    # other custom objects name nothing a safe checkpoint stores: nothing to replace
+
+    if "policy_kwargs" in kwargs and kwargs["policy_kwargs"] != hyper["policy_kwargs"]:
+        raise ValueError(
+            f"The specified policy kwargs do not equal the stored policy kwargs. Stored kwargs: "
+            f"{hyper['policy_kwargs']}, specified kwargs: {kwargs['policy_kwargs']}"
+        )
+    kwargs.pop("policy_kwargs", None)
+    for key in list(kwargs):  # overrides of constructor arguments, e.g. the zoo's buffer_size=1
+        if key in hyper:
+            hyper[key] = kwargs.pop(key)
+
+    n_envs = int(meta.get("n_envs", 1))
+    if env is not None:
+        env = cls._wrap_env(env, hyper["verbose"])
+        _check_env_spaces(env, obs_space, act_space, name)
+        n_envs = env.num_envs
+    model = cls(policy=policy_class, env=env, device=device, _init_setup_model=False, **hyper)
+    if env is None:
+        model.observation_space = obs_space
+        model.action_space = act_space
+        model.n_envs = n_envs
+    state = meta.get("state", {})
+    for key in STATE_KEYS:
+        if key in state:
+            setattr(model, key, decode(state[key], f"{where} {key}"))
+    for key, value in kwargs.items():  # as SB3's load: other kwargs set attributes
+        setattr(model, key, value)
+    model._setup_model()
+    try:
+        model.set_parameters(params, exact_match=True, device=device)
+    except (ValueError, RuntimeError, KeyError) as e:
+        raise ValueError(f"{where}: the saved weights do not fit the rebuilt model ({e})") from e
+    for var_name, value in variables.items():
+        if not isinstance(value, th.Tensor):
+            raise ValueError(f"{where}: pytorch variable {var_name!r} is not a tensor")
+        recursive_setattr(model, f"{var_name}.data", value.data.to(model.device))
+    return model
