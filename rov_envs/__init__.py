@@ -7,7 +7,7 @@ id                                        task
 ========================================  ===============================================
 ``rov_envs/PathFollowingStraight-v0``     200 m line, observation {"path"}
 ``rov_envs/PathFollowingSine-v0``         120 m sinusoid, observation {"path"}
-``rov_envs/ObstacleAvoidance-v0``         reach a goal 100 m ahead through random cylinders
+``rov_envs/ObstacleAvoidance-v0``         reach a goal 60 m ahead past 2-4 random cylinders
 ``rov_envs/PlanningStraight-v0``          line + the paper's 4 obstacles
 ``rov_envs/PlanningSine-v0``              sinusoid + the paper's 2 obstacles
 ``rov_envs/PlanningStraightUniform-v0``   line, obstacles spread evenly along the route

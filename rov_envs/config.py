@@ -87,6 +87,7 @@ class EnvConfig:
     continuous: bool
     max_episode_seconds: float
     render_mode: str | None
+    success_reward: float = 200.0
     dt: float = CONTROL_PERIOD
 
     @property
@@ -159,6 +160,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         max_episode_seconds: time limit in simulated seconds (default: twice the path's arc
             length at 1 m/s).
         render_mode: None or ``"rgb_array"``.
+        success_reward: reward added on the step that reaches the target (default 200; our
+            addition to eq. 21, see :mod:`rov_envs.rewards`; 0 gives the paper's reward literally).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -177,6 +180,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "continuous",
         "max_episode_seconds",
         "render_mode",
+        "success_reward",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -229,6 +233,11 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     render_mode = kwargs.get("render_mode")
     if render_mode not in (None, "rgb_array"):
         raise _bad("render_mode", render_mode, "None or 'rgb_array'")
+    success_reward = _finite_float(
+        "success_reward", kwargs.get("success_reward", 200.0), "a finite float >= 0"
+    )
+    if success_reward < 0:
+        raise _bad("success_reward", success_reward, "a finite float >= 0")
     base = EnvConfig(
         task=task,
         length=length,
@@ -244,6 +253,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         continuous=bool(continuous),
         max_episode_seconds=1.0,
         render_mode=render_mode,
+        success_reward=success_reward,
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -50,7 +50,8 @@ C_GOALY = 14
 C_SONAR = 15  # 1.0 when the observation has a "sonar" part
 C_TARGET_R = 16  # success radius around the target (m)
 C_UREF = 17  # reference speed of the progress reward (m/s)
-C_SIZE = 18
+C_SUCCESS_R = 18  # reward added on reaching the target (our addition to eq. 21)
+C_SIZE = 19
 
 # ---- per-vehicle auxiliary state ``aux`` (float64) ----
 A_STEPS = 0  # steps taken in this episode
@@ -225,6 +226,7 @@ def step_vehicle(
         r_t = FAILURE_REWARD
     elif out[O_PROG] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]:
         code = END_SUCCESS
+        r_t = cfg[C_SUCCESS_R]
     aux[A_STEPS] += 1.0
     trunc = 0.0
     if code == END_NONE and aux[A_STEPS] >= cfg[C_MAXSTEPS]:

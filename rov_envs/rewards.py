@@ -19,6 +19,14 @@ The reward of a step is ``r = r_c + r_v + r_terminal`` (eq. 17 plus eq. 21):
 * ``r_terminal`` (eq. 21): -200 once when the episode fails, i.e. when ``|g| >= d_L``,
   ``|a_c| >= pi/2`` or ``d <= 2`` (several at once still give -200). The paper says the vehicle
   "will receive another reward" in those cases, so it is added to ``r_c + r_v`` of that step.
+* ``r_terminal`` on success (NOT in the paper; argument ``success_reward``, default +200): eq.
+  17-21 pay a positive ``r_c`` (about +1) on every step spent near the path and nothing for
+  arriving, so arriving ends a stream of reward and a learner is paid to crawl: measured with
+  DiscreteSAC, path-following agents learned to wiggle slowly and time out on every one of their
+  last 50 training episodes (return about 1870 against about 1000 for arriving). A bonus larger
+  than the discounted value of loitering (about 1 / (1 - gamma) = 100 at gamma = 0.99) makes
+  arriving the better choice; +200 mirrors eq. 21's -200. ``success_reward=0`` restores the
+  paper's reward exactly.
 """
 
 from __future__ import annotations

@@ -71,7 +71,7 @@ TASKS: dict[str, TaskSpec] = {
             PATH_STRAIGHT,
             REWARD_PROGRESS,
             30.0,
-            100.0,
+            60.0,
             layout="avoidance",
             sonar=True,
         ),

@@ -307,3 +307,29 @@ def test_progressive_round_trip(tmp_path: Path, policy_name: str) -> None:
     for key, value in model.policy.state_dict().items():
         assert th.equal(value, loaded.policy.state_dict()[key]), key
     loaded.learn(30)
+
+
+def test_space_codec_round_trip() -> None:
+    from collections import OrderedDict
+
+    from sb3_pnn.safe_io import space_from_json, space_to_json
+
+    cases = [
+        spaces.Box(np.array([-np.inf, -1.5], np.float32), np.array([np.inf, 2.25], np.float32)),
+        spaces.Box(0, 255, (3, 4), np.uint8),
+        spaces.Discrete(5, start=-2),
+        spaces.MultiDiscrete([3, 4]),
+        spaces.MultiBinary(6),
+        spaces.Dict(
+            OrderedDict([("z", spaces.Discrete(2)), ("a", spaces.Box(-1, 1, (2,), np.float64))])
+        ),
+    ]
+    for space in cases:
+        encoded = json.loads(json.dumps(space_to_json(space), allow_nan=False))
+        decoded = space_from_json(encoded)
+        assert decoded == space and decoded.dtype == space.dtype, space
+    assert list(space_from_json(space_to_json(cases[-1])).spaces) == ["z", "a"]
+    with pytest.raises(ValueError, match="unsupported space type 'Tuple'"):
+        space_from_json({"type": "Tuple"})
+    with pytest.raises(ValueError, match="cannot store"):
+        space_to_json(spaces.Text(5))

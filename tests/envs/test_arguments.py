@@ -36,6 +36,8 @@ BAD = [
     ("continuous", "yes"),
     ("max_episode_seconds", 0.0),
     ("render_mode", "ansi"),
+    ("success_reward", -1.0),
+    ("success_reward", "big"),
     ("colour", "red"),
 ]
 

@@ -56,7 +56,7 @@ def test_layout_drawn_afresh(env_id: str) -> None:
 def test_layouts_solvable(name: str) -> None:
     straight = name != "sine_dense"
     d_L = 30.0 if straight else 15.0
-    length = 100.0 if name == "avoidance" else (200.0 if straight else 120.0)
+    length = 60.0 if name == "avoidance" else (200.0 if straight else 120.0)
     amp, wave = 15.0, 120.0
     for seed in range(40):
         obs = LAYOUTS[name](np.random.default_rng(seed), length, amp, wave)

@@ -117,8 +117,10 @@ def test_end_collision() -> None:
     _check_failure(info, r, term, trunc, "collision")
 
 
-def test_end_success() -> None:
-    env = gym.make("rov_envs/PathFollowingStraight-v0")
+@pytest.mark.parametrize("bonus", [None, 0.0, 50.0])
+def test_end_success(bonus) -> None:
+    kwargs = {} if bonus is None else {"success_reward": bonus}
+    env = gym.make("rov_envs/PathFollowingStraight-v0", **kwargs)
     env.reset(seed=0)
     env.unwrapped.set_pose(197.0, 0.0, 0.0)
     for _ in range(100):
@@ -127,7 +129,9 @@ def test_end_success() -> None:
             break
     assert term and not trunc
     assert info["end_reason"] == "success" and info["is_success"] is True
-    assert info["r_terminal"] == 0.0
+    expected_bonus = 200.0 if bonus is None else bonus
+    assert info["r_terminal"] == expected_bonus
+    assert r == pytest.approx(info["r_c"] + info["r_v"] + expected_bonus, abs=1e-12)
     assert info["progress"] >= 198.0 - 1e-9
 
 
@@ -151,10 +155,10 @@ def test_default_time_limit_is_twice_nominal() -> None:
 def test_progress_reward_obstacle_avoidance() -> None:
     env = gym.make("rov_envs/ObstacleAvoidance-v0", obstacles=[(50.0, 20.0, 1.0)])
     env.reset(seed=0)
-    prev = np.hypot(100.0, 0.0)
+    prev = np.hypot(60.0, 0.0)
     for _ in range(30):
         obs, r, term, trunc, info = env.step(2)
         x, y = info["position"]
-        now = math.hypot(100.0 - x, y)
+        now = math.hypot(60.0 - x, y)
         assert info["r_c"] == pytest.approx((prev - now) / 0.2, abs=1e-9)
         prev = now
