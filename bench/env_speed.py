@@ -90,12 +90,13 @@ def main() -> None:
         (f"{sine} single", lambda: bench_single(sine, args.steps)),
         (f"{env_id} single continuous", lambda: bench_single(env_id, args.steps, True)),
     ]
+    big = 50 * args.steps
     for n in args.envs:
-        big = 50 * args.steps
-        rows.append((f"{env_id} make_vec N={n}", lambda n=n: bench_vector(env_id, n, big, False)))
-        rows.append(
-            (f"{env_id} RovSB3VecEnv N={n}", lambda n=n: bench_vector(env_id, n, big, True))
-        )
+        for sb3 in (False, True):
+            label = "RovSB3VecEnv" if sb3 else "make_vec"
+            rows.append(
+                (f"{env_id} {label} N={n}", lambda n=n, sb3=sb3: bench_vector(env_id, n, big, sb3))
+            )
     for name, fn in rows:
         sps = fn()
         pend = 0.5 * (pend + pendulum())  # re-anchor beside each row (the load drifts)

@@ -122,7 +122,8 @@ def render_topdown(
         span = config.sonar_span
         for j in range(q + 1):
             a = psi - 0.5 * span + j * span / q
-            cv.polyline(np.array([x, x + rmax * math.cos(a)]), np.array([y, y + rmax * math.sin(a)]), SONAR)  # fmt: skip
+            ray_x = np.array([x, x + rmax * math.cos(a)])
+            cv.polyline(ray_x, np.array([y, y + rmax * math.sin(a)]), SONAR)
         for j in range(q):
             if sonar[j] < rmax:
                 a = psi - 0.5 * span + (j + 0.5) * span / q
@@ -130,5 +131,6 @@ def render_topdown(
     if trajectory.size:
         cv.polyline(trajectory[:, 0], trajectory[:, 1], TRAJ, thick=2)
     cv.disc(x, y, 1.2, VEHICLE)
-    cv.polyline(np.array([x, x + 4 * math.cos(psi)]), np.array([y, y + 4 * math.sin(psi)]), VEHICLE, 2)  # fmt: skip
+    nose_x = np.array([x, x + 4 * math.cos(psi)])
+    cv.polyline(nose_x, np.array([y, y + 4 * math.sin(psi)]), VEHICLE, 2)
     return cv.img
