@@ -20,6 +20,7 @@ from numba import njit, prange
 from rov_envs.physics.dynamics import advance_work
 from rov_envs.physics.guidance import los_guidance
 from rov_envs.physics.sonar import nearest_surface_distance, sonar_scan
+from rov_envs.physics.thrusters import continuous_to_speeds_into
 from rov_envs.rewards import (
     END_NONE,
     END_SUCCESS,
@@ -103,19 +104,8 @@ def _gauss(rng: np.ndarray, i: int) -> float:
 
 @njit(cache=True)
 def continuous_command(surge: float, yaw: float, max_speed: float, cmd: np.ndarray) -> None:
-    """njit mirror of ``rov_envs.physics.thrusters.continuous_to_speeds`` (inputs clipped)."""
-    s = min(1.0, max(-1.0, surge))
-    y = min(1.0, max(-1.0, yaw))
-    left = min(1.0, max(-1.0, s - y))
-    right = min(1.0, max(-1.0, s + y))
-    n_left = math.copysign(math.sqrt(abs(left)), left) * max_speed
-    n_right = math.copysign(math.sqrt(abs(right)), right) * max_speed
-    cmd[0] = n_left
-    cmd[1] = n_right
-    cmd[2] = -n_left
-    cmd[3] = -n_right
-    cmd[4] = 0.0
-    cmd[5] = 0.0
+    """The (surge, yaw) -> T1..T6 mapping of ``rov_envs.physics.thrusters`` (inputs clipped)."""
+    continuous_to_speeds_into(surge, yaw, max_speed, cmd)
 
 
 @njit(cache=True)
