@@ -37,6 +37,7 @@ from stable_baselines3.common.utils import (
     get_system_info,
 )
 
+from sb3_pnn.safe_io.files import read_file_bytes
 from sb3_pnn.safe_io.json_codec import decode, encode, safe_class_name
 from sb3_pnn.safe_io.policy_registry import get_policy_class, policy_class_name
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
@@ -183,26 +184,12 @@ def save_with_metadata(
 
 
 # --- loading ------------------------------------------------------------------------------
-def _read_bytes(path: str | os.PathLike[str] | io.BufferedIOBase) -> tuple[io.BytesIO, str]:
-    """The checkpoint's bytes and a name for messages; FileNotFoundError naming the path."""
-    if isinstance(path, (str, os.PathLike)):
-        p = pathlib.Path(path)
-        if not p.is_file() and p.suffix == "" and pathlib.Path(f"{p}.zip").is_file():
-            p = pathlib.Path(f"{p}.zip")  # as SB3: "model" finds "model.zip"
-        if not p.is_file():
-            raise FileNotFoundError(f"DiscreteSAC checkpoint {str(path)!r} does not exist")
-        return io.BytesIO(p.read_bytes()), str(p)
-    if hasattr(path, "read"):
-        return io.BytesIO(path.read()), repr(path)
-    raise ValueError(f"expected a checkpoint path or binary file object, got {path!r:.100}")
-
-
 def read_checkpoint(
     path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
 ) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any], str]:
     """(JSON member, state dicts, pytorch variables, name) of a safe checkpoint; never reads
     ``data``. UnsafeCheckpointError when the JSON member is missing."""
-    raw, name = _read_bytes(path)
+    raw, name = read_file_bytes(path, "zip", "DiscreteSAC checkpoint", "checkpoint")
     try:
         with zipfile.ZipFile(raw) as archive:
             names = archive.namelist()

@@ -29,6 +29,7 @@ from stable_baselines3.common.buffers import NStepReplayBuffer, ReplayBuffer
 from stable_baselines3.common.save_util import open_path
 
 from sb3_pnn.safe_io.checkpoint import UnsafeCheckpointError
+from sb3_pnn.safe_io.files import read_file_bytes
 from sb3_pnn.safe_io.json_codec import safe_class, safe_class_name
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
 
@@ -97,24 +98,11 @@ def save_buffer(buffer: ReplayBuffer, path: str | pathlib.Path | io.BufferedIOBa
             file.close()
 
 
-def _open(path: str | os.PathLike[str] | io.BufferedIOBase) -> tuple[io.BytesIO, str]:
-    if isinstance(path, (str, os.PathLike)):
-        p = pathlib.Path(path)
-        if not p.is_file() and p.suffix == "" and pathlib.Path(f"{p}.pkl").is_file():
-            p = pathlib.Path(f"{p}.pkl")  # as SB3: "buffer" finds "buffer.pkl"
-        if not p.is_file():
-            raise FileNotFoundError(f"replay buffer file {str(path)!r} does not exist")
-        return io.BytesIO(p.read_bytes()), str(p)
-    if hasattr(path, "read"):
-        return io.BytesIO(path.read()), repr(path)
-    raise ValueError(f"expected a replay buffer path or binary file object, got {path!r:.100}")
-
-
 def load_buffer(
     path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
 ) -> ReplayBuffer:
     """Rebuild a replay buffer saved by :func:`save_buffer`, never unpickling anything."""
-    raw, name = _open(path)
+    raw, name = read_file_bytes(path, "pkl", "replay buffer file", "replay buffer")
     refuse = UnsafeCheckpointError(
         f"replay buffer file {name!r} is not an sb3_pnn replay-buffer archive (probably a pickle "
         "written by SB3's save_replay_buffer). Unpickling can run arbitrary code, so it is "
