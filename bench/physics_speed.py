@@ -1,176 +1,149 @@
-"""Micro-benchmark of the physics core beside Gymnasium's Pendulum-v1, stepped in the same run.
+"""The physics core alone, beside Gymnasium's Pendulum-v1 stepped in the same run.
 
-Prints steps per second of:
-  * Pendulum-v1, two anchors: ``env.step`` with a fixed action (the bare step), and the usual
-    random-agent loop ``env.step(env.action_space.sample())`` (the ~16k steps/s figure quoted in
-    design.md and issue 2 matches this one on the project machine),
-  * one vehicle: the fused kernel with N = 1 (dynamics + sonar + LOS, one Python call per step),
-    and ``dynamics.advance`` alone,
-  * N vehicles (default 64): ``fused.advance_observe_batch`` and ``dynamics.advance_batch``,
-    counted in vehicle-steps per second,
-each with its ratio to both Pendulum-v1 anchors. Workload: the PlanningSine layout (sine path,
-4 obstacles incl. the paper's two, 9-sector sonar over 180 deg, 25 m range), random Table 1 actions,
-default control period and substeps. Timings are the best of several repeats.
+Prints nanoseconds per vehicle-step (one 0.2 s control period, 4 RK4 substeps) and the ratio of
+vehicle-steps per second to Pendulum-v1 steps per second for:
 
-    python bench/physics_speed.py [--n-envs 64] [--repeats 5] [--seconds 0.5]
+* ``integrator.advance_blocks`` (parameters read at run time) and the default-parameter kernel
+  ``advance_block_default`` that the environments run, on one thread;
+* ``integrator.advance_blocks_parallel`` on numba's threads;
+* the whole environment kernel ``kernel.step_batch_parallel`` (physics, guidance, sonar, rewards,
+  autoresets), called directly without the Gymnasium layer;
+
+and whether LLVM turned the per-block vehicle loop into SIMD code (packed ``v...pd``
+instructions on ymm/zmm registers): without it every figure drops about 4x. Workload: random
+Table 1 commands, vehicles spread over their own states. Timings are the best of ``--repeats``.
+
+    python bench/physics_speed.py [--n-envs 1024] [--repeats 5] [--seconds 0.5]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import re
 import time
 from collections.abc import Callable
 
 import gymnasium as gym
+import numba
 import numpy as np
+from numba import njit, types
 
+from rov_envs import kernel as K
+from rov_envs.engine import RovBatch
 from rov_envs.physics import ACTION_TABLE, BlueROV2Params
-from rov_envs.physics.dynamics import (
-    DEFAULT_CONTROL_PERIOD,
-    DEFAULT_SUBSTEPS,
-    advance,
-    advance_batch,
-)
-from rov_envs.physics.fused import advance_observe_batch
-from rov_envs.physics.guidance import (
-    DEFAULT_LOOKAHEAD,
-    PATH_SINE,
-    SINE_AMPLITUDE,
-    SINE_WAVELENGTH,
-)
-
-SPAN = math.pi
-RANGE = 25.0
-Q = 9
-OBSTACLES = np.array([[30.0, 17.5, 1.5], [90.0, -12.5, 1.5], [20.0, 8.0, 1.5], [60.0, 2.0, 1.5]])
+from rov_envs.physics import integrator as I  # noqa: E741 (the module's short name)
 
 
-def best_rate(step: Callable[[], None], calls: int, repeats: int) -> float:
-    """Best calls-per-second over ``repeats`` timed loops of ``calls`` calls."""
+def best_rate(step: Callable[[], None], seconds: float, repeats: int) -> float:
+    """Best calls per second over ``repeats`` loops of about ``seconds`` each."""
     step()
-    best = math.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            step()
-        best = min(best, time.perf_counter() - t0)
-    return calls / best
-
-
-def calibrate(step: Callable[[], None], seconds: float) -> int:
-    """Number of calls that take about ``seconds``."""
-    step()
-    n = 10
-    while True:
+    n = 4
+    while True:  # calibrate
         t0 = time.perf_counter()
         for _ in range(n):
             step()
         el = time.perf_counter() - t0
         if el > 0.05:
-            return max(10, int(n * seconds / el))
+            break
         n *= 4
+    n = max(4, int(n * seconds / el))
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            step()
+        best = min(best, time.perf_counter() - t0)
+    return n / best
 
 
-class Fleet:
-    """Preallocated buffers for N vehicles on the PlanningSine layout."""
-
-    def __init__(self, n: int, seed: int = 0):
-        self.rng = np.random.default_rng(seed)
-        self.p = BlueROV2Params().to_array()
-        self.states = np.zeros((n, 18))
-        self.states[:, 5] = math.atan(SINE_AMPLITUDE * 2 * math.pi / SINE_WAVELENGTH)
-        self.currents = np.zeros((n, 3))
-        self.obstacles = np.tile(OBSTACLES, (n, 1, 1))
-        self.n_obs = np.full(n, OBSTACLES.shape[0], dtype=np.int64)
-        self.sonar = np.empty((n, Q))
-        self.nearest = np.empty(n)
-        self.guide = np.full((n, 3), math.nan)
-        self.actions = self.rng.integers(0, 5, (4096, n))
-        self.cmds = np.empty((n, 6))
-        self.t = 0
-
-    def _next_cmds(self) -> None:
-        self.cmds[:] = ACTION_TABLE[self.actions[self.t % 4096]]
-        self.t += 1
-        if self.t % 1500 == 0:  # restart the episode now and then, like an env would
-            self.states[:] = 0.0
-            self.guide[:, 2] = math.nan
-
-    def fused(self) -> None:
-        self._next_cmds()
-        advance_observe_batch(
-            self.states, self.cmds, self.p, self.currents, DEFAULT_CONTROL_PERIOD,
-            DEFAULT_SUBSTEPS, self.obstacles, self.n_obs, SPAN, RANGE, self.sonar, self.nearest,
-            PATH_SINE, SINE_AMPLITUDE, SINE_WAVELENGTH, DEFAULT_LOOKAHEAD, self.guide,
-        )  # fmt: skip
-
-    def dynamics(self) -> None:
-        self._next_cmds()
-        advance_batch(
-            self.states, self.cmds, self.p, self.currents, DEFAULT_CONTROL_PERIOD, DEFAULT_SUBSTEPS
-        )
-
-    def single_advance(self) -> None:
-        self._next_cmds()
-        advance(
-            self.states[0], self.cmds[0], self.p, self.currents[0], DEFAULT_CONTROL_PERIOD,
-            DEFAULT_SUBSTEPS,
-        )  # fmt: skip
+@njit(cache=True, _nrt=False)
+def _advance_default_serial(buf, dt, n_substeps):
+    for b in range(buf.shape[0] // I.BLOCK):
+        I.advance_block_default(buf, b, dt, n_substeps)
 
 
-def pendulum_rate(seconds: float, repeats: int, sample: bool) -> float:
+def simd_report() -> str:
+    """Packed double-precision instructions in the compiled vehicle loop, by register width."""
+    cached = I._substep_default
+    flags = {k: v for k, v in I._JIT_DEFAULT.items() if k != "cache"}
+    fresh = njit(**flags)(cached.py_func)  # cached code cannot be inspected: compile anew
+    f8 = types.float64
+    fresh.compile((types.float64[::1], types.uint64, f8, f8, f8, f8))
+    asm = fresh.inspect_asm(fresh.signatures[0])
+    ymm = len(re.findall(r"\tv\w+pd\t.*%ymm", asm))
+    zmm = len(re.findall(r"\tv\w+pd\t.*%zmm", asm))
+    scalar = len(re.findall(r"\tv\w+sd\t", asm))
+    verdict = "SIMD" if ymm + zmm > scalar else "NOT vectorised"
+    return f"{verdict}: {zmm} zmm + {ymm} ymm packed vs {scalar} scalar instructions"
+
+
+def pendulum_rate(seconds: float, repeats: int) -> float:
     env = gym.make("Pendulum-v1")
     env.reset(seed=0)
-    env.action_space.seed(0)
-    fixed = np.array([0.5], dtype=np.float32)
+    acts = list(np.random.default_rng(0).uniform(-2, 2, (4096, 1)).astype(np.float32))
+    k = [0]
 
     def step() -> None:
-        action = env.action_space.sample() if sample else fixed
-        _, _, term, trunc, _ = env.step(action)
-        if term or trunc:
+        _, _, te, tr, _ = env.step(acts[k[0] % 4096])
+        k[0] += 1
+        if te or tr:
             env.reset()
 
-    return best_rate(step, calibrate(step, seconds), repeats)
+    return best_rate(step, seconds, repeats)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--n-envs", type=int, default=64, help="vehicles in the batched runs")
+    ap.add_argument("--n-envs", type=int, default=1024, help="vehicles")
     ap.add_argument("--repeats", type=int, default=5, help="timed repeats (best is kept)")
     ap.add_argument("--seconds", type=float, default=0.5, help="length of one timed repeat")
     args = ap.parse_args()
     if args.n_envs < 1 or args.repeats < 1 or not args.seconds > 0:
         raise SystemExit("--n-envs and --repeats must be >= 1 and --seconds > 0")
+    n = args.n_envs
+    dt, nsub = 0.2, 4
+    p = BlueROV2Params().to_array()
+    rng = np.random.default_rng(0)
+    buf = I.new_lanes(n)
+    rows = buf.reshape(-1, I.ROWS, I.LANES)
+    cmds = ACTION_TABLE[rng.integers(0, 5, (rows.shape[0], I.LANES))]  # (blocks, lanes, 6)
+    rows[:, I.ROW_CMD : I.ROW_CMD + 6, :] = cmds.transpose(0, 2, 1)
+    for _ in range(20):  # spread the vehicles over their own states
+        I.advance_blocks(buf, p, dt, nsub)
+    batch = RovBatch(n, "PlanningStraight")
+    batch.reset_all(list(range(n)))
+    actions = [rng.integers(0, 5, n) for _ in range(64)]
+    k = [0]
 
-    one = Fleet(1)
-    many = Fleet(args.n_envs)
-    for f in (one.fused, one.single_advance, many.fused, many.dynamics):
-        f()  # compile / load the numba cache before timing
-
-    pend = pendulum_rate(args.seconds, args.repeats, sample=False)
-    pend_s = pendulum_rate(args.seconds, args.repeats, sample=True)
-    rows = [
-        ("Pendulum-v1, fixed action (anchor A)", pend, 1),
-        ("Pendulum-v1, action_space.sample() (anchor B)", pend_s, 1),
-    ]
-    for name, fn, n in (
-        ("1 vehicle: fused dynamics+sonar+LOS", one.fused, 1),
-        ("1 vehicle: dynamics.advance only", one.single_advance, 1),
-        (f"{args.n_envs} vehicles: fused dynamics+sonar+LOS", many.fused, args.n_envs),
-        (f"{args.n_envs} vehicles: dynamics.advance_batch only", many.dynamics, args.n_envs),
-    ):
-        rows.append((name, best_rate(fn, calibrate(fn, args.seconds), args.repeats) * n, n))
-    print(
-        f"control period {DEFAULT_CONTROL_PERIOD} s, {DEFAULT_SUBSTEPS} RK4 substeps, "
-        f"sonar {Q} sectors / {math.degrees(SPAN):.0f} deg / {RANGE:.0f} m, "
-        f"{OBSTACLES.shape[0]} obstacles, sine path"
-    )
-    print(f"{'workload':48s} {'steps/s':>12s} {'us/vehicle-step':>16s} {'x A':>7s} {'x B':>7s}")
-    for name, rate, _ in rows:
-        print(
-            f"{name:48s} {rate:12,.0f} {1e6 / rate:16.3f} {rate / pend:7.1f} {rate / pend_s:7.1f}"
+    def env_kernel() -> None:
+        k[0] += 1
+        K.step_batch_parallel(
+            K.MODE_NEXT_STEP, n, actions[k[0] % 64], batch._no_cont, False, *batch.step_arrays
         )
+
+    work = [
+        ("advance_blocks (run-time params), 1 thread", lambda: I.advance_blocks(buf, p, dt, nsub)),
+        ("advance_block_default (env physics), 1 thread",
+         lambda: _advance_default_serial(buf, dt, nsub)),
+        ("advance_blocks_parallel (run-time params)",
+         lambda: I.advance_blocks_parallel(buf, p, dt, nsub)),
+        ("env kernel step_batch_parallel, PlanningStraight", env_kernel),
+    ]  # fmt: skip
+    for _, fn in work:
+        fn()  # compile / load the numba cache before timing
+    pend = pendulum_rate(args.seconds, args.repeats)
+    print(
+        f"{n} vehicles, control period {dt} s, {nsub} RK4 substeps, {numba.get_num_threads()} "
+        f"numba threads; vehicle loop: {simd_report()}"
+    )
+    print(f"{'workload':52s} {'ns/vehicle-step':>16s} {'vehicle-steps/s':>16s} {'x Pendulum':>11s}")
+    print(
+        f"{'Pendulum-v1 (gymnasium.make), anchor':52s} {1e9 / pend:16.1f} {pend:16,.0f} {1:11.2f}"
+    )
+    for name, fn in work:
+        rate = best_rate(fn, args.seconds, args.repeats) * n
+        print(f"{name:52s} {1e9 / rate:16.1f} {rate:16,.0f} {rate / pend:11.2f}")
 
 
 if __name__ == "__main__":

@@ -6,28 +6,14 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from gymnasium import spaces
 
 from rov_envs import kernel as K
-from rov_envs.config import EnvConfig, make_config
-from rov_envs.episode import cfg_array, sample_episode
-from rov_envs.physics.dynamics import ADVANCE_WORK_SHAPE
-from rov_envs.physics.params import BlueROV2Params
-from rov_envs.physics.thrusters import ACTION_TABLE
+from rov_envs.config import make_config
+from rov_envs.engine import RovBatch
 from rov_envs.rewards import END_COLLISION, END_REASONS, END_SUCCESS
+from rov_envs.spaces import make_spaces
 
-
-def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
-    """Observation and action spaces of a task (shared with the batched environment)."""
-    parts: dict[str, spaces.Space] = {"path": spaces.Box(-1.0, 1.0, (2,), np.float32)}
-    if config.has_sonar:
-        parts["sonar"] = spaces.Box(0.0, 1.0, (config.sonar_sectors,), np.float32)
-    action: spaces.Space
-    if config.continuous:
-        action = spaces.Box(-1.0, 1.0, (2,), np.float32)
-    else:
-        action = spaces.Discrete(ACTION_TABLE.shape[0])
-    return spaces.Dict(parts), action
+__all__ = ["RovEnv", "make_spaces"]
 
 
 class RovEnv(gym.Env):
@@ -85,24 +71,11 @@ class RovEnv(gym.Env):
         self.render_mode = self.config.render_mode
         self.observation_space, self.action_space = make_spaces(self.config)
         self.sonar_range = self.config.sonar_range
+        self._batch = RovBatch(1, config=self.config)
         self._continuous = self.config.continuous
         self._has_sonar = self.config.has_sonar
-        self._params = BlueROV2Params().to_array()
-        self._table = np.ascontiguousarray(ACTION_TABLE, dtype=np.float64)
-        self._cfg = cfg_array(self.config)
-        self._current = np.array([*self.config.current, 0.0], dtype=np.float64)
-        self._state = np.zeros(18, dtype=np.float64)
-        self._cmd = np.zeros(6, dtype=np.float64)
-        self._obstacles = np.zeros((0, 3), dtype=np.float64)
-        self._rng = np.zeros(1, dtype=np.uint64)
-        self._aux = np.zeros(K.A_SIZE, dtype=np.float64)
-        self._work = np.zeros(ADVANCE_WORK_SHAPE, dtype=np.float64)
-        self._guide = np.zeros(3, dtype=np.float64)
-        q = self.config.sonar_sectors if self._has_sonar else 0
-        self._sonar_buf = np.zeros(q, dtype=np.float64)
-        self._obs_path = np.zeros(2, dtype=np.float32)
-        self._obs_sonar = np.zeros(q, dtype=np.float32)
-        self._out = np.zeros(K.O_SIZE, dtype=np.float64)
+        self._action = np.zeros(1, dtype=np.int64)
+        self._cont = np.zeros((1, 2))
         self._trajectory: list[tuple[float, float]] = []
         self._started = False
 
@@ -110,12 +83,12 @@ class RovEnv(gym.Env):
     @property
     def obstacles(self) -> np.ndarray:
         """The current episode's obstacles, (M, 3) of (x, y, radius) in metres (a copy)."""
-        return self._obstacles.copy()
+        return self._batch.vehicle_obstacles(0)
 
     @property
     def state(self) -> np.ndarray:
         """The full 18-dim physics state (a copy): x y z phi theta psi u v w p q r n1..n6."""
-        return self._state.copy()
+        return self._batch.state(0)
 
     @property
     def trajectory(self) -> np.ndarray:
@@ -133,29 +106,24 @@ class RovEnv(gym.Env):
         vals = (float(x), float(y), float(heading))
         if not all(np.isfinite(vals)):
             raise ValueError(f"pose={vals!r} is not allowed: expected finite floats")
-        self._state[:] = 0.0
-        self._state[0], self._state[1], self._state[5] = vals
-        K.reset_vehicle(
-            self._state, self._cfg, self._obstacles, self._rng, 0, self._aux, self._guide,
-            self._sonar_buf, self._obs_path, self._obs_sonar, self._out,
-        )  # fmt: skip
+        self._batch.set_pose(0, *vals)
         if self.render_mode:
             self._trajectory.append((vals[0], vals[1]))
         return self._obs()
 
     # ---- gymnasium API ----
     def _obs(self) -> dict[str, np.ndarray]:
+        b = self._batch
         if self._has_sonar:
-            return {"path": self._obs_path.copy(), "sonar": self._obs_sonar.copy()}
-        return {"path": self._obs_path.copy()}
+            return {"path": b.obs_path[0].copy(), "sonar": b.obs_sonar[0].copy()}
+        return {"path": b.obs_path[0].copy()}
 
     def _info(self) -> dict[str, Any]:
-        s = self._state
-        o = self._out
+        o = self._batch.out[:, 0]
         return {
-            "position": s[0:2].copy(),
-            "heading": float(s[5]),
-            "velocity": np.array((s[6], s[7], s[11])),
+            "position": np.array((o[K.O_X], o[K.O_Y])),
+            "heading": float(o[K.O_PSI]),
+            "velocity": np.array((o[K.O_U], o[K.O_V], o[K.O_YAW_RATE])),
             "cross_track": float(o[K.O_G]),
             "heading_error": float(o[K.O_AC]),
             "obstacle_distance": float(o[K.O_D]),
@@ -165,23 +133,20 @@ class RovEnv(gym.Env):
             "r_v": float(o[K.O_RV]),
             "r_terminal": float(o[K.O_RT]),
             "end_reason": END_REASONS[int(o[K.O_END])],
-            "steps": int(self._aux[K.A_STEPS]),
+            "steps": int(o[K.O_STEPS]),
         }
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         super().reset(seed=seed)
-        state, obstacles, stream = sample_episode(self.config, self.np_random)
-        self._state[:] = state
-        self._obstacles = np.ascontiguousarray(obstacles, dtype=np.float64)
-        self._rng[0] = stream
-        K.reset_vehicle(
-            self._state, self._cfg, self._obstacles, self._rng, 0, self._aux, self._guide,
-            self._sonar_buf, self._obs_path, self._obs_sonar, self._out,
-        )  # fmt: skip
+        b = self._batch
+        if seed is not None or not b.seeded[0]:
+            b.seed_stream(0, self.np_random)
+        b.reset_index(0)
         self._started = True
-        self._trajectory = [(float(state[0]), float(state[1]))] if self.render_mode else []
+        if self.render_mode:
+            self._trajectory = [(float(b.out[K.O_X, 0]), float(b.out[K.O_Y, 0]))]
         return self._obs(), self._info()
 
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict]:
@@ -189,20 +154,18 @@ class RovEnv(gym.Env):
             raise RuntimeError("call reset() before step() (and after an episode ended)")
         if self._continuous:
             surge, yaw = float(action[0]), float(action[1])
-            if surge != surge or yaw != yaw:
+            if not (np.isfinite(surge) and np.isfinite(yaw)):
                 raise ValueError(f"action={action!r} is not allowed: expected two finite floats")
-            a = 0
+            self._cont[0, 0] = surge
+            self._cont[0, 1] = yaw
         else:
             a = int(action)
             if not 0 <= a < 5:
                 raise ValueError(f"action={action!r} is not allowed: expected an int in [0, 4]")
-            surge = yaw = 0.0
-        o = self._out
-        K.step_single(
-            self._state, a, surge, yaw, self._continuous, self._table, self._cmd, self._params,
-            self._current, self._cfg, self._obstacles, self._rng, self._aux, self._work,
-            self._guide, self._sonar_buf, self._obs_path, self._obs_sonar, o,
-        )  # fmt: skip
+            self._action[0] = a
+        b = self._batch
+        K.step_batch(K.MODE_PLAIN, 1, self._action, self._cont, self._continuous, *b.step_arrays)
+        o = b.out[:, 0]
         terminated = o[K.O_TERM] != 0.0
         truncated = o[K.O_TRUNC] != 0.0
         info = self._info()
@@ -210,7 +173,7 @@ class RovEnv(gym.Env):
             info["is_success"] = bool(o[K.O_END] == END_SUCCESS)
             self._started = False
         if self.render_mode:
-            self._trajectory.append((float(self._state[0]), float(self._state[1])))
+            self._trajectory.append((float(o[K.O_X]), float(o[K.O_Y])))
         return self._obs(), float(o[K.O_R]), bool(terminated), bool(truncated), info
 
     def render(self) -> np.ndarray | None:
@@ -220,8 +183,8 @@ class RovEnv(gym.Env):
 
         return render_topdown(
             self.config,
-            self._obstacles,
+            self.obstacles,
             self.trajectory,
-            self._state,
-            self._sonar_buf if self._has_sonar else None,
+            self.state,
+            self._batch.sonar_raw[0] if self._has_sonar else None,
         )

@@ -1,13 +1,20 @@
-"""The fused per-step numba kernels shared by the single and the batched environments.
+"""The per-control-step numba kernels shared by the single and the batched environments.
 
-One call advances the vehicle dynamics (``rov_envs.physics.dynamics.advance``), runs LOS guidance
-(``rov_envs.physics.guidance``, eq. 16), the sonar (``rov_envs.physics.sonar``), the rewards
-(eq. 17-21, :mod:`rov_envs.rewards`) and the ending tests, writing into preallocated buffers. The
-batched kernel runs the very same per-vehicle function in a loop, so N batched vehicles and N
-single environments with the same seeds produce the same numbers bit for bit.
+One call of :func:`step_batch` (or :func:`step_batch_parallel`) advances N vehicles by one control
+period: the actions become thruster commands, the physics advances each block of
+``integrator.LANES`` vehicles with SIMD code (:mod:`rov_envs.physics.integrator`), then each
+vehicle runs LOS guidance (eq. 16, :mod:`rov_envs.physics.guidance`), its sonar
+(:mod:`rov_envs.physics.sonar`), the rewards (eq. 17-21, :mod:`rov_envs.rewards`) and the ending
+tests, and, if asked, starts its next episode (layout, start pose and noise drawn from its own
+random stream, :mod:`rov_envs.random_stream`) without returning to Python. A single environment
+calls the same kernel with N = 1, so N batched vehicles and N single environments with the same
+seeds produce the same numbers bit for bit.
 
-Random numbers needed during an episode (sonar noise) come from a per-vehicle splitmix64 stream
-kept in a ``uint64`` array and seeded at reset from the environment's ``np_random``.
+Autoreset modes: ``MODE_PLAIN`` (none: single env, evaluation), ``MODE_NEXT_STEP`` (Gymnasium's
+default: a vehicle flagged in ``pending`` is reset instead of stepped, with reward 0 and no
+ending; ``pending`` then flags the vehicles that ended this step) and ``MODE_SAME_STEP`` (SB3:
+a vehicle that ends is reset in the same call, its final observation copied to ``term_path`` /
+``term_sonar`` and its final reward and ending to ``final``, and flagged in ``pending``).
 """
 
 from __future__ import annotations
@@ -17,10 +24,27 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from rov_envs.physics.dynamics import advance_work
-from rov_envs.physics.guidance import los_guidance
-from rov_envs.physics.sonar import nearest_surface_distance, sonar_scan
-from rov_envs.physics.thrusters import continuous_to_speeds_into
+from rov_envs.layouts import draw_layout
+from rov_envs.physics.guidance import los_tuple
+from rov_envs.physics.integrator import (
+    LANES,
+    ROW_CMD,
+    ROW_CURRENT,
+    ROW_PSI,
+    ROW_Q0,
+    ROW_R,
+    ROW_U,
+    ROW_X,
+    ROW_Y,
+    ROWS,
+    advance_block_default,
+    default_params_probe,
+    lane_index,
+)
+from rov_envs.physics.params import P_SIZE, BlueROV2Params
+from rov_envs.physics.sonar import _nearest, _scan
+from rov_envs.physics.thrusters import continuous_pair_speeds
+from rov_envs.random_stream import gauss
 from rov_envs.rewards import (
     END_NONE,
     END_SUCCESS,
@@ -32,7 +56,7 @@ from rov_envs.rewards import (
     reward_straight,
 )
 
-# ---- layout of the task array ``cfg`` (float64) ----
+# ---- layout of the task array ``cfg`` (float64, rov_envs.episode.cfg_array) ----
 C_PATH = 0  # 0 straight, 1 sine (rov_envs.tasks.PATH_*)
 C_REWARD = 1  # rov_envs.tasks.REWARD_*
 C_DL = 2  # d_L (m)
@@ -52,14 +76,17 @@ C_SONAR = 15  # 1.0 when the observation has a "sonar" part
 C_TARGET_R = 16  # success radius around the target (m)
 C_UREF = 17  # reference speed of the progress reward (m/s)
 C_SUCCESS_R = 18  # reward added on reaching the target (our addition to eq. 21)
-C_SIZE = 19
+C_LAYOUT = 19  # rov_envs.layouts.LAYOUT_CODES value; 0 = the obstacles never change
+C_LAYOUT_N = 20  # that layout's obstacle count (the most it draws)
+C_START_PSI = 21  # start heading: the path's tangent at the start (rad)
+C_START_POS_STD = 22  # start-pose perturbation: position std (m)
+C_START_HEAD_STD = 23  # start-pose perturbation: heading std (rad)
+C_CURRENT_X = 24  # world-frame water velocity (m/s)
+C_CURRENT_Y = 25
+C_SIZE = 26
 
-# ---- per-vehicle auxiliary state ``aux`` (float64) ----
-A_STEPS = 0  # steps taken in this episode
-A_PREV_GOAL = 1  # distance to the goal after the previous step (progress reward)
-A_SIZE = 2
-
-# ---- per-vehicle step results ``out`` (float64) ----
+# ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
+# so that each info array is one contiguous row) ----
 O_AC = 0  # heading deviation a_c (rad)
 O_G = 1  # signed cross-track distance g (m)
 O_D = 2  # distance to the nearest obstacle surface (m, inf without obstacles)
@@ -68,239 +95,286 @@ O_RV = 4  # r_v
 O_RT = 5  # r_terminal
 O_R = 6  # total reward
 O_END = 7  # end code (rov_envs.rewards.END_*)
-O_PROG = 8  # along-path progress (m of x for the closest path point)
+O_PROG = 8  # along-path progress (m of x of the closest path point; the sine's warm start)
 O_TERM = 9  # 1.0 when terminated
 O_TRUNC = 10  # 1.0 when truncated
-O_SIZE = 11
+O_X = 11  # position x, y (m)
+O_Y = 12
+O_PSI = 13  # heading (rad, continuous)
+O_U = 14  # surge u, sway v (m/s), yaw rate r (rad/s)
+O_V = 15
+O_YAW_RATE = 16
+O_STEPS = 17  # steps taken in this episode
+O_PREV_GOAL = 18  # distance to the goal after the previous step (progress reward)
+O_SIZE = 19
 
-_PI = math.pi
-_M1 = np.uint64(0x9E3779B97F4A7C15)
-_M2 = np.uint64(0xBF58476D1CE4E5B9)
-_M3 = np.uint64(0x94D049BB133111EB)
-_S30 = np.uint64(30)
-_S27 = np.uint64(27)
-_S31 = np.uint64(31)
-_S11 = np.uint64(11)
+MODE_PLAIN = 0
+MODE_NEXT_STEP = 1
+MODE_SAME_STEP = 2
 
+# ---- a vehicle's final step in MODE_SAME_STEP, saved before its reset: ``final`` (float64,
+# shape (F_SIZE, N)) ----
+F_REWARD = 0
+F_TERM = 1
+F_TRUNC = 2
+F_END = 3
+F_SIZE = 4
 
-@njit(cache=True)
-def _uniform(rng: np.ndarray, i: int) -> float:
-    """splitmix64: a float in [0, 1) from stream ``rng[i]``."""
-    z = rng[i] + _M1
-    rng[i] = z
-    z = (z ^ (z >> _S30)) * _M2
-    z = (z ^ (z >> _S27)) * _M3
-    z = z ^ (z >> _S31)
-    return float(z >> _S11) * (1.0 / 9007199254740992.0)
-
-
-@njit(cache=True)
-def _gauss(rng: np.ndarray, i: int) -> float:
-    """A standard normal draw (Box-Muller) from stream ``rng[i]``."""
-    u1 = 1.0 - _uniform(rng, i)
-    u2 = _uniform(rng, i)
-    return math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * _PI * u2)
+#: Largest thruster command of the continuous mapping (rev/min), Table 1's largest.
+_MAX_SPEED = 8000.0
 
 
-@njit(cache=True)
-def continuous_command(surge: float, yaw: float, max_speed: float, cmd: np.ndarray) -> None:
-    """The (surge, yaw) -> T1..T6 mapping of ``rov_envs.physics.thrusters`` (inputs clipped)."""
-    continuous_to_speeds_into(surge, yaw, max_speed, cmd)
+def check_compiled_params() -> None:
+    """Refuse to run when numba's cache holds physics compiled with other default parameters.
+
+    The kernels have ``BlueROV2Params()`` compiled in (``integrator.advance_block_default``);
+    numba's cache does not notice edits to ``rov_envs/physics/params.py``.
+    """
+    compiled = np.empty(P_SIZE)
+    default_params_probe(compiled)
+    if not np.array_equal(compiled, BlueROV2Params().to_array()):
+        raise RuntimeError(
+            "rov_envs: numba's cache holds physics compiled with other BlueROV2Params defaults "
+            "(rov_envs/physics/params.py changed); delete the __pycache__ folders under "
+            "rov_envs/ (or set NUMBA_CACHE_DIR to an empty folder) and run again"
+        )
 
 
-@njit(cache=True)
-def observe(
-    state: np.ndarray,
-    cfg: np.ndarray,
-    obstacles: np.ndarray,
-    rng: np.ndarray,
-    ri: int,
-    guide: np.ndarray,
-    sonar_buf: np.ndarray,
-    obs_path: np.ndarray,
-    obs_sonar: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Guidance, obstacle distance and sonar at the current state; fills the observation."""
-    x = state[0]
-    y = state[1]
-    psi = state[5]
-    # guide[2] is read as the sine closest-point warm start, then overwritten
-    los_guidance(int(cfg[C_PATH]), x, y, psi, cfg[C_AMP], cfg[C_WAVE], cfg[C_LOOKAHEAD], guide)
-    a_c = guide[0]
-    g = guide[1]
-    d_L = cfg[C_DL]
-    d = nearest_surface_distance(x, y, obstacles)
-    obs_path[0] = a_c / _PI
-    obs_path[1] = min(1.0, max(-1.0, g / d_L))
+@njit(cache=True, inline="always")
+def _distance(dx, dy):
+    """sqrt(dx^2 + dy^2) (libm's hypot guards against overflow we cannot meet, and is slow)."""
+    return math.sqrt(dx * dx + dy * dy)
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """Guidance, obstacle distance and sonar of vehicle i; fills its observation and ``out``.
+
+    The sonar looks along the heading of the attitude quaternion (the body x axis projected on
+    the horizontal plane); guidance uses the heading row.
+    """
+    o = lane_index(i)
+    x = lanes[o + ROW_X * LANES]
+    y = lanes[o + ROW_Y * LANES]
+    psi = lanes[o + ROW_PSI * LANES]
+    # out[O_PROG, i] is read as the sine closest-point warm start, then overwritten
+    a_c, g, progress = los_tuple(
+        int(cfg[C_PATH]), x, y, psi, cfg[C_AMP], cfg[C_WAVE], cfg[C_LOOKAHEAD], out[O_PROG, i]
+    )
+    m = n_obs[i]
+    d = _nearest(x, y, obstacles[i], m)
+    obs_path[i, 0] = a_c / math.pi
+    obs_path[i, 1] = min(1.0, max(-1.0, g / cfg[C_DL]))
     if cfg[C_SONAR] != 0.0:
         rmax = cfg[C_RANGE]
-        sonar_scan(x, y, psi, obstacles, cfg[C_SPAN], rmax, sonar_buf)
-        sigma = cfg[C_NOISE]
-        for k in range(sonar_buf.shape[0]):
-            v = sonar_buf[k]
-            if sigma > 0.0 and v < rmax:
-                v = min(rmax, max(0.0, v + sigma * _gauss(rng, ri)))
-            obs_sonar[k] = v / rmax
-    out[O_AC] = a_c
-    out[O_G] = g
-    out[O_D] = d
-    out[O_PROG] = guide[2]
+        q = obs_sonar.shape[1]
+        if d >= rmax:  # no surface within range: every sector reads the range, no noise
+            for k in range(q):
+                sonar_raw[i, k] = rmax
+                obs_sonar[i, k] = 1.0
+        else:
+            q0 = lanes[o + ROW_Q0 * LANES]
+            q1 = lanes[o + (ROW_Q0 + 1) * LANES]
+            q2 = lanes[o + (ROW_Q0 + 2) * LANES]
+            q3 = lanes[o + (ROW_Q0 + 3) * LANES]
+            hx = 1.0 - 2.0 * (q2 * q2 + q3 * q3)  # R[0, 0] = cos(psi) cos(theta)
+            hy = 2.0 * (q1 * q2 + q0 * q3)  # R[1, 0] = sin(psi) cos(theta)
+            hn = math.sqrt(hx * hx + hy * hy)
+            _scan(x, y, hx / hn, hy / hn, obstacles[i], m, cfg[C_SPAN], rmax, sonar_raw[i])
+            sigma = cfg[C_NOISE]
+            for k in range(q):
+                v = sonar_raw[i, k]
+                if sigma > 0.0 and v < rmax:
+                    v = min(rmax, max(0.0, v + sigma * gauss(rng, i)))
+                obs_sonar[i, k] = v / rmax
+    out[O_AC, i] = a_c
+    out[O_G, i] = g
+    out[O_D, i] = d
+    out[O_PROG, i] = progress
+    out[O_X, i] = x
+    out[O_Y, i] = y
+    out[O_PSI, i] = psi
+    out[O_U, i] = lanes[o + ROW_U * LANES]
+    out[O_V, i] = lanes[o + (ROW_U + 1) * LANES]
+    out[O_YAW_RATE, i] = lanes[o + ROW_R * LANES]
 
 
-@njit(cache=True)
-def reset_vehicle(
-    state: np.ndarray,
-    cfg: np.ndarray,
-    obstacles: np.ndarray,
-    rng: np.ndarray,
-    ri: int,
-    aux: np.ndarray,
-    guide: np.ndarray,
-    sonar_buf: np.ndarray,
-    obs_path: np.ndarray,
-    obs_sonar: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Start an episode from ``state`` (already set): clear counters and observe."""
-    aux[A_STEPS] = 0.0
-    aux[A_PREV_GOAL] = math.hypot(cfg[C_GOALX] - state[0], cfg[C_GOALY] - state[1])
-    guide[2] = np.nan  # no warm start: global closest-point search
-    observe(state, cfg, obstacles, rng, ri, guide, sonar_buf, obs_path, obs_sonar, out)
-    for k in range(O_RC, O_SIZE):
-        if k != O_PROG:
-            out[k] = 0.0
+@njit(cache=True, _nrt=False)
+def place_vehicle(i, lanes, cfg, x, y, psi):
+    """Put vehicle i at rest at (x, y) with heading psi, thrusters stopped, in the task's
+    current."""
+    o = lane_index(i)
+    for k in range(ROWS):
+        lanes[o + k * LANES] = 0.0
+    lanes[o + ROW_X * LANES] = x
+    lanes[o + ROW_Y * LANES] = y
+    lanes[o + ROW_Q0 * LANES] = math.cos(0.5 * psi)
+    lanes[o + (ROW_Q0 + 3) * LANES] = math.sin(0.5 * psi)
+    lanes[o + ROW_PSI * LANES] = psi
+    lanes[o + ROW_CURRENT * LANES] = cfg[C_CURRENT_X]
+    lanes[o + (ROW_CURRENT + 1) * LANES] = cfg[C_CURRENT_Y]
 
 
-@njit(cache=True)
-def step_vehicle(
-    state: np.ndarray,
-    cmd: np.ndarray,
-    params: np.ndarray,
-    current: np.ndarray,
-    cfg: np.ndarray,
-    obstacles: np.ndarray,
-    rng: np.ndarray,
-    ri: int,
-    aux: np.ndarray,
-    work: np.ndarray,
-    guide: np.ndarray,
-    sonar_buf: np.ndarray,
-    obs_path: np.ndarray,
-    obs_sonar: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """One control period of one vehicle: dynamics, guidance, sonar, reward (eq. 17-21), ending.
+@njit(cache=True, _nrt=False)
+def start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """Vehicle i starts an episode where it stands: clear its counters and observe."""
+    o = lane_index(i)
+    for k in range(O_SIZE):
+        out[k, i] = 0.0
+    out[O_PREV_GOAL, i] = _distance(
+        cfg[C_GOALX] - lanes[o + ROW_X * LANES], cfg[C_GOALY] - lanes[o + ROW_Y * LANES]
+    )
+    out[O_PROG, i] = np.nan  # no warm start: global closest-point search
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
 
-    ``guide`` (3,) keeps [a_c, g, progress]; its progress is the sine closest-point warm start.
-    """
-    advance_work(state, cmd, params, current, cfg[C_DT], int(cfg[C_NSUB]), work)
-    observe(state, cfg, obstacles, rng, ri, guide, sonar_buf, obs_path, obs_sonar, out)
-    a_c = out[O_AC]
-    g = out[O_G]
-    d = out[O_D]
+
+@njit(cache=True, _nrt=False)
+def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """Draw vehicle i's next episode from its stream (layout, start-pose noise) and start it."""
+    kind = int(cfg[C_LAYOUT])
+    if kind != 0:
+        n_obs[i] = draw_layout(
+            kind, int(cfg[C_LAYOUT_N]), rng, i, cfg[C_LENGTH], cfg[C_AMP], cfg[C_WAVE],
+            obstacles[i],
+        )  # fmt: skip
+    x = 0.0
+    y = 0.0
+    psi = cfg[C_START_PSI]
+    pos_std = cfg[C_START_POS_STD]
+    if pos_std > 0.0:
+        x = pos_std * gauss(rng, i)
+        y = pos_std * gauss(rng, i)
+    if cfg[C_START_HEAD_STD] > 0.0:
+        psi += cfg[C_START_HEAD_STD] * gauss(rng, i)
+    place_vehicle(i, lanes, cfg, x, y, psi)
+    start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+
+
+@njit(parallel=True, cache=True, _nrt=False)
+def reset_all(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """``reset_vehicle`` for vehicles 0..n-1."""
+    for i in prange(n):
+        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """After the physics: observe vehicle i, then its reward (eq. 17-21) and ending."""
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    a_c = out[O_AC, i]
+    g = out[O_G, i]
+    d = out[O_D, i]
     d_L = cfg[C_DL]
     kind = cfg[C_REWARD]
-    dist_goal = math.hypot(cfg[C_GOALX] - state[0], cfg[C_GOALY] - state[1])
+    dist_goal = _distance(cfg[C_GOALX] - out[O_X, i], cfg[C_GOALY] - out[O_Y, i])
     if kind == 0.0:
         r_c = reward_straight(a_c, g, d_L)
     elif kind == 1.0:
         r_c = reward_sine(a_c, g, d_L)
     else:
-        r_c = (aux[A_PREV_GOAL] - dist_goal) / (cfg[C_UREF] * cfg[C_DT])
-    aux[A_PREV_GOAL] = dist_goal
+        r_c = (out[O_PREV_GOAL, i] - dist_goal) / (cfg[C_UREF] * cfg[C_DT])
+    out[O_PREV_GOAL, i] = dist_goal
     r_v = reward_obstacle(d)
     code = failure_code(a_c, g, d, d_L)
     r_t = 0.0
     if code != END_NONE:
         r_t = FAILURE_REWARD
-    elif out[O_PROG] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]:
+    elif out[O_PROG, i] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]:
         code = END_SUCCESS
         r_t = cfg[C_SUCCESS_R]
-    aux[A_STEPS] += 1.0
+    steps = out[O_STEPS, i] + 1.0
+    out[O_STEPS, i] = steps
     trunc = 0.0
-    if code == END_NONE and aux[A_STEPS] >= cfg[C_MAXSTEPS]:
+    if code == END_NONE and steps >= cfg[C_MAXSTEPS]:
         code = END_TIME_LIMIT
         trunc = 1.0
-    out[O_RC] = r_c
-    out[O_RV] = r_v
-    out[O_RT] = r_t
-    out[O_R] = r_c + r_v + r_t
-    out[O_END] = code
-    out[O_TERM] = 1.0 if (code != END_NONE and code != END_TIME_LIMIT) else 0.0
-    out[O_TRUNC] = trunc
+    out[O_RC, i] = r_c
+    out[O_RV, i] = r_v
+    out[O_RT, i] = r_t
+    out[O_R, i] = r_c + r_v + r_t
+    out[O_END, i] = code
+    out[O_TERM, i] = 1.0 if (code != END_NONE and code != END_TIME_LIMIT) else 0.0
+    out[O_TRUNC, i] = trunc
 
 
-@njit(cache=True)
-def step_single(
-    state: np.ndarray,
-    action: int,
-    surge: float,
-    yaw: float,
-    continuous: bool,
-    table: np.ndarray,
-    cmd: np.ndarray,
-    params: np.ndarray,
-    current: np.ndarray,
-    cfg: np.ndarray,
-    obstacles: np.ndarray,
-    rng: np.ndarray,
-    aux: np.ndarray,
-    work: np.ndarray,
-    guide: np.ndarray,
-    sonar_buf: np.ndarray,
-    obs_path: np.ndarray,
-    obs_sonar: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Single-environment step: the action becomes a thruster command, then ``step_vehicle``."""
-    if continuous:
-        continuous_command(surge, yaw, 8000.0, cmd)
-    else:
-        for k in range(6):
-            cmd[k] = table[action, k]
-    step_vehicle(
-        state, cmd, params, current, cfg, obstacles, rng, 0, aux, work, guide, sonar_buf,
-        obs_path, obs_sonar, out,
-    )  # fmt: skip
-
-
-def _step_batch_impl(
-    states: np.ndarray,
-    actions: np.ndarray,
-    cont_actions: np.ndarray,
-    continuous: bool,
-    table: np.ndarray,
-    cmds: np.ndarray,
-    params: np.ndarray,
-    currents: np.ndarray,
-    cfg: np.ndarray,
-    obstacles: np.ndarray,
-    n_obs: np.ndarray,
-    rng: np.ndarray,
-    aux: np.ndarray,
-    work: np.ndarray,
-    guide: np.ndarray,
-    sonar_buf: np.ndarray,
-    obs_path: np.ndarray,
-    obs_sonar: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    for i in prange(states.shape[0]):
-        cmd = cmds[i]
+@njit(cache=True, _nrt=False)
+def first_bad_action(n, actions, cont, continuous, n_actions):
+    """Index of the first action that is not allowed (-1 if none)."""
+    for i in range(n):
         if continuous:
-            continuous_command(cont_actions[i, 0], cont_actions[i, 1], 8000.0, cmd)
+            if not (math.isfinite(cont[i, 0]) and math.isfinite(cont[i, 1])):
+                return i
+        elif actions[i] < 0 or actions[i] >= n_actions:
+            return i
+    return -1
+
+
+@njit(cache=True, _nrt=False)
+def step_block(
+    b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
+    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+):  # fmt: skip
+    """One control step for the vehicles of block b (see the module docstring for ``mode``)."""
+    i0 = b * LANES
+    i1 = min(n, i0 + LANES)
+    for i in range(i0, i1):
+        c = lane_index(i) + ROW_CMD * LANES
+        if continuous:
+            n_left, n_right = continuous_pair_speeds(cont[i, 0], cont[i, 1], _MAX_SPEED)
+            lanes[c] = n_left
+            lanes[c + LANES] = n_right
+            lanes[c + 2 * LANES] = -n_left
+            lanes[c + 3 * LANES] = -n_right
+            lanes[c + 4 * LANES] = 0.0
+            lanes[c + 5 * LANES] = 0.0
         else:
             a = actions[i]
             for k in range(6):
-                cmd[k] = table[a, k]
-        step_vehicle(
-            states[i], cmd, params, currents[i], cfg, obstacles[i, : n_obs[i]], rng, i, aux[i],
-            work[i], guide[i], sonar_buf[i], obs_path[i], obs_sonar[i], out[i],
+                lanes[c + k * LANES] = table[a, k]
+    advance_block_default(lanes, b, cfg[C_DT], int(cfg[C_NSUB]))
+    for i in range(i0, i1):
+        if mode == MODE_NEXT_STEP and pending[i]:
+            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+            pending[i] = False
+            continue
+        finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        if mode == MODE_PLAIN:
+            continue
+        done = out[O_TERM, i] != 0.0 or out[O_TRUNC, i] != 0.0
+        pending[i] = done
+        if mode == MODE_SAME_STEP and done:
+            final[F_REWARD, i] = out[O_R, i]
+            final[F_TERM, i] = out[O_TERM, i]
+            final[F_TRUNC, i] = out[O_TRUNC, i]
+            final[F_END, i] = out[O_END, i]
+            term_path[i, 0] = obs_path[i, 0]
+            term_path[i, 1] = obs_path[i, 1]
+            for k in range(obs_sonar.shape[1]):
+                term_sonar[i, k] = obs_sonar[i, k]
+            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+
+
+@njit(cache=True, _nrt=False)
+def step_batch(
+    mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
+    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+):  # fmt: skip
+    """One control step for N vehicles, blocks one after the other (single env, small N)."""
+    for b in range((n + LANES - 1) // LANES):
+        step_block(
+            b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
+            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
         )  # fmt: skip
 
 
-#: Batched step, serial loop over vehicles.
-step_batch = njit(cache=True)(_step_batch_impl)
-#: Batched step, vehicles spread over numba's threads (same numbers as ``step_batch``).
-step_batch_parallel = njit(cache=True, parallel=True)(_step_batch_impl)
+@njit(cache=True, parallel=True, _nrt=False)
+def step_batch_parallel(
+    mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
+    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+):  # fmt: skip
+    """``step_batch`` with the blocks spread over numba's threads (the same numbers)."""
+    for b in prange((n + LANES - 1) // LANES):
+        step_block(
+            b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
+            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+        )  # fmt: skip

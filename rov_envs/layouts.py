@@ -1,4 +1,4 @@
-"""Obstacle layouts drawn afresh each episode from the environment's random generator.
+"""Obstacle layouts drawn afresh each episode from the vehicle's random stream (numba).
 
 The paper gives coordinates only for PlanningStraight and PlanningSine. The other layouts are
 designed here to fit the task names, and all of them are kept solvable by construction:
@@ -30,117 +30,93 @@ Layouts (``length`` is the path length along x; counts scale with it):
 ``sine_dense`` (PlanningSineDense): one obstacle of radius U(1.0, 2.0) m per 10 m of x along
     [20, length - 15] (8-9 on the 120 m sinusoid), each placed at a point of the sinusoid and moved
     along its normal by U(-5, 5) m, so the obstacles follow the curve.
+
+Obstacles are drawn one at a time, each proposal redrawn until it keeps ``GAP_MIN`` from those
+already placed (at most ``MAX_TRIES`` proposals each). The draws come from the vehicle's
+splitmix64 stream (:mod:`rov_envs.random_stream`) inside the kernels, so a batched reset costs no
+Python call; :func:`sample_layout` runs the same code from Python (tests, plots).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
+from numba import njit
+
+from rov_envs.random_stream import stream_seed, uniform
 
 GAP_MIN = 6.0
 START_CLEAR = 15.0
 END_CLEAR = 12.0
-_MAX_TRIES = 2000
+MAX_TRIES = 2000
+
+#: Layout codes read by the kernels (``rov_envs.kernel.C_LAYOUT``); 0 = nothing is drawn.
+LAYOUT_FIXED = 0
+LAYOUT_CODES: dict[str, int] = {"avoidance": 1, "uniform": 2, "dense": 3, "sine_dense": 4}
 
 
-def _accept(obs: list[tuple[float, float, float]], x: float, y: float, r: float) -> bool:
-    for ox, oy, orad in obs:
-        if math.hypot(x - ox, y - oy) - r - orad < GAP_MIN:
-            return False
-    return True
+@njit(cache=True, inline="always")
+def _propose(kind, rng, ri, k, n, length, amplitude, wavelength):
+    """Proposal k of n for layout ``kind``: (x, y, radius)."""
+    if kind == 1:  # avoidance
+        y_half = 1.5 if k == 0 else 8.0
+        x = START_CLEAR + (length - END_CLEAR - START_CLEAR) * uniform(rng, ri)
+        return x, -y_half + 2.0 * y_half * uniform(rng, ri), 1.5
+    if kind == 2:  # uniform: one per station
+        x0 = 30.0
+        width = (length - 20.0 - x0) / n
+        x = x0 + k * width + width * uniform(rng, ri)
+        return x, -12.0 + 24.0 * uniform(rng, ri), 1.5
+    if kind == 3:  # dense
+        x = 30.0 + (length - 50.0) * uniform(rng, ri)
+        y = -6.0 + 12.0 * uniform(rng, ri)
+        return x, y, 1.0 + uniform(rng, ri)
+    # sine_dense: a point of the sinusoid moved along its normal
+    k_w = 2.0 * math.pi / wavelength
+    xs = 20.0 + (length - 35.0) * uniform(rng, ri)
+    slope = amplitude * k_w * math.cos(k_w * xs)
+    norm = math.sqrt(1.0 + slope * slope)
+    off = -5.0 + 10.0 * uniform(rng, ri)
+    r = 1.0 + uniform(rng, ri)
+    return xs - off * slope / norm, amplitude * math.sin(k_w * xs) + off / norm, r
 
 
-def _draw(
-    rng: np.random.Generator,
-    n: int,
-    propose: Callable[[np.random.Generator, int], tuple[float, float, float]],
-) -> np.ndarray:
-    """Draw ``n`` obstacles one by one with ``propose(rng, k)``, rejecting too-close ones."""
-    obs: list[tuple[float, float, float]] = []
+@njit(cache=True, _nrt=False)
+def draw_layout(kind, n_max, rng, ri, length, amplitude, wavelength, out):
+    """Draw layout ``kind`` (a ``LAYOUT_CODES`` value) into ``out`` (>= n_max, 3); returns M.
+
+    ``n_max``: the layout's count (:func:`max_obstacles`); the avoidance layout draws 2-4.
+    """
+    n = n_max
+    if kind == 1:
+        n = 2 + int(3.0 * uniform(rng, ri))
+    m = 0
     for k in range(n):
-        for _ in range(_MAX_TRIES):
-            x, y, r = propose(rng, k)
-            if _accept(obs, x, y, r):
-                obs.append((x, y, r))
+        for _ in range(MAX_TRIES):
+            x, y, r = _propose(kind, rng, ri, k, n, length, amplitude, wavelength)
+            ok = True
+            for j in range(m):
+                dx = x - out[j, 0]
+                dy = y - out[j, 1]
+                if math.sqrt(dx * dx + dy * dy) - r - out[j, 2] < GAP_MIN:
+                    ok = False
+                    break
+            if ok:
+                out[m, 0] = x
+                out[m, 1] = y
+                out[m, 2] = r
+                m += 1
                 break
         else:  # the band is full: keep what fits (never happens with the default sizes)
             break
-    return np.asarray(obs, dtype=np.float64).reshape(-1, 3)
-
-
-def avoidance(rng: np.random.Generator, length: float, amplitude: float, wavelength: float):
-    n = int(rng.integers(2, 5))
-    x0, x1 = START_CLEAR, length - END_CLEAR
-
-    def propose(g: np.random.Generator, k: int):
-        y_half = 1.5 if k == 0 else 8.0
-        return (float(g.uniform(x0, x1)), float(g.uniform(-y_half, y_half)), 1.5)
-
-    return _draw(rng, n, propose)
-
-
-def uniform(rng: np.random.Generator, length: float, amplitude: float, wavelength: float):
-    x0, x1 = 30.0, length - 20.0
-    n = max(1, int(round((x1 - x0) / 20.0)))
-    width = (x1 - x0) / n
-
-    def propose(g: np.random.Generator, k: int):
-        return (
-            float(g.uniform(x0 + k * width, x0 + (k + 1) * width)),
-            float(g.uniform(-12.0, 12.0)),
-            1.5,
-        )
-
-    return _draw(rng, n, propose)
-
-
-def dense(rng: np.random.Generator, length: float, amplitude: float, wavelength: float):
-    x0, x1 = 30.0, length - 20.0
-    n = max(1, int(round((x1 - x0) / 10.0)))
-
-    def propose(g: np.random.Generator, k: int):
-        return (
-            float(g.uniform(x0, x1)),
-            float(g.uniform(-6.0, 6.0)),
-            float(g.uniform(1.0, 2.0)),
-        )
-
-    return _draw(rng, n, propose)
-
-
-def sine_dense(rng: np.random.Generator, length: float, amplitude: float, wavelength: float):
-    x0, x1 = 20.0, length - 15.0
-    n = max(1, int(round((x1 - x0) / 10.0)))
-    k_w = 2.0 * math.pi / wavelength
-
-    def propose(g: np.random.Generator, k: int):
-        xs = float(g.uniform(x0, x1))
-        slope = amplitude * k_w * math.cos(k_w * xs)
-        norm = math.hypot(1.0, slope)
-        off = float(g.uniform(-5.0, 5.0))
-        return (
-            xs - off * slope / norm,
-            amplitude * math.sin(k_w * xs) + off / norm,
-            float(g.uniform(1.0, 2.0)),
-        )
-
-    return _draw(rng, n, propose)
-
-
-#: name -> generator(rng, length, amplitude, wavelength) -> (M, 3) array of (x, y, radius).
-LAYOUTS: dict[str, Callable[..., np.ndarray]] = {
-    "avoidance": avoidance,
-    "uniform": uniform,
-    "dense": dense,
-    "sine_dense": sine_dense,
-}
-
-#: The most obstacles a generator can return for a given path length (for batch buffers).
+    return m
 
 
 def max_obstacles(layout: str, length: float) -> int:
+    """The most obstacles layout ``layout`` places on a path of ``length`` metres."""
     if layout == "avoidance":
         return 4
     if layout == "uniform":
@@ -149,4 +125,28 @@ def max_obstacles(layout: str, length: float) -> int:
         return max(1, int(round((length - 50.0) / 10.0)))
     if layout == "sine_dense":
         return max(1, int(round((length - 35.0) / 10.0)))
-    raise ValueError(f"layout: unknown layout {layout!r}; expected one of {sorted(LAYOUTS)}")
+    raise ValueError(f"layout={layout!r} is not allowed: expected one of {sorted(LAYOUT_CODES)}")
+
+
+def sample_layout(
+    layout: str,
+    generator: np.random.Generator,
+    length: float,
+    amplitude: float,
+    wavelength: float,
+) -> np.ndarray:
+    """Draw one layout from Python: (M, 3) array of (x, y, radius), stream seeded from
+    ``generator`` (the kernels run the same code on a vehicle's stream)."""
+    n_max = max_obstacles(layout, length)
+    out = np.zeros((n_max, 3))
+    rng = np.array([stream_seed(generator)], dtype=np.uint64)
+    m = draw_layout(
+        LAYOUT_CODES[layout], n_max, rng, 0, float(length), float(amplitude), float(wavelength), out
+    )
+    return out[:m].copy()
+
+
+#: name -> sampler(generator, length, amplitude, wavelength) -> (M, 3) array of (x, y, radius).
+LAYOUTS: dict[str, Callable[..., np.ndarray]] = {
+    name: partial(sample_layout, name) for name in LAYOUT_CODES
+}

@@ -49,13 +49,13 @@ FAILURE_REWARD = -200.0
 HALF_PI = 0.5 * math.pi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def reward_straight(a_c: float, g: float, d_L: float) -> float:
     """Eq. (18) with the distance |g| (see the module docstring)."""
     return -abs(a_c) / 3.14 + abs(1.0 - abs(g) / d_L)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def reward_sine(a_c: float, g: float, d_L: float) -> float:
     """Eq. (19)."""
     ag = abs(g)
@@ -64,7 +64,7 @@ def reward_sine(a_c: float, g: float, d_L: float) -> float:
     return -abs(a_c) * 0.0875 + 2.0 ** (2.0 - ag / d_L) * 0.1625
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def reward_obstacle(d: float) -> float:
     """Eq. (20): r_v from the distance d to the nearest obstacle surface (m)."""
     if 5.0 < d <= 8.0:
@@ -74,7 +74,7 @@ def reward_obstacle(d: float) -> float:
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def failure_code(a_c: float, g: float, d: float, d_L: float) -> int:
     """Eq. (21) conditions: the end code (collision first), or END_NONE."""
     if d <= COLLISION_DISTANCE:

@@ -4,7 +4,8 @@ SB3 wants same-step autoreset and a list of info dicts: a vehicle whose episode 
 the same ``step_wait`` call; its info then carries ``"terminal_observation"``,
 ``"TimeLimit.truncated"``, ``"is_success"`` and an ``"episode"`` record ({"r", "l", "t"}, as
 SB3's Monitor writes it, so ``ep_rew_mean`` and ``success_rate`` are logged without a wrapper).
-Other steps give empty info dicts unless ``info_keys`` names keys to copy every step.
+Other steps give empty info dicts unless ``info_keys`` names keys to copy every step (for a vehicle
+that has just been reset, those values are already its new episode's).
 """
 
 from __future__ import annotations
@@ -17,8 +18,8 @@ import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvStepReturn
 
 from rov_envs import kernel as K
+from rov_envs.engine import RovBatch
 from rov_envs.rewards import END_SUCCESS
-from rov_envs.vector import RovBatch
 
 
 def _task_name(task_or_id: str) -> str:
@@ -33,7 +34,7 @@ class RovSB3VecEnv(VecEnv):
     Args:
         num_envs: number of vehicles.
         task: a task name (``"PlanningStraight"``) or id (``"rov_envs/PlanningStraight-v0"``).
-        info_keys: info keys (of :meth:`rov_envs.vector.RovBatch.infos`) copied into every
+        info_keys: info keys (of :meth:`rov_envs.engine.RovBatch.infos`) copied into every
             step's info dicts (slower; default none).
         **kwargs: the single environment's keyword arguments.
     """
@@ -69,8 +70,7 @@ class RovSB3VecEnv(VecEnv):
         self._t0 = time.time()
 
     def reset(self):
-        for i in range(self.num_envs):
-            self.batch.reset_index(i, self._seeds[i])
+        self.batch.reset_all([self._seeds[i] for i in range(self.num_envs)])
         self._reset_seeds()
         self._reset_options()
         self._ep_return[:] = 0.0
@@ -84,15 +84,16 @@ class RovSB3VecEnv(VecEnv):
     def step_wait(self) -> VecEnvStepReturn:
         b = self.batch
         actions = self._actions
-        if not self.batch.continuous:
+        if not b.continuous:
             actions = np.asarray(actions).reshape(self.num_envs)
-        b.step(actions)
-        out = b.out
-        rewards = out[:, K.O_R].astype(np.float32)
-        terminated = out[:, K.O_TERM] != 0.0
-        truncated = out[:, K.O_TRUNC] != 0.0
-        dones = terminated | truncated
-        self._ep_return += out[:, K.O_R]
+        b.step(actions, K.MODE_SAME_STEP)
+        # the kernel has already reset the vehicles that ended (flagged in ``pending``): their
+        # final reward and ending are in ``final``, their final observation in ``term_*``
+        dones = b.pending.copy()
+        ended = np.flatnonzero(dones)
+        rewards = b.out[K.O_R].copy()
+        rewards[ended] = b.final[K.F_REWARD, ended]
+        self._ep_return += rewards
         self._ep_len += 1
         obs = b.observations()
         if self.info_keys:
@@ -100,12 +101,15 @@ class RovSB3VecEnv(VecEnv):
             infos = [{k: full[k][i] for k in self.info_keys} for i in range(self.num_envs)]
         else:
             infos = [{} for _ in range(self.num_envs)]
-        for i in np.flatnonzero(dones):
+        for i in ended:
             i = int(i)
             info = infos[i]
-            info["terminal_observation"] = {k: v[i].copy() for k, v in obs.items()}
-            info["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
-            info["is_success"] = bool(out[i, K.O_END] == END_SUCCESS)
+            terminal = {"path": b.term_path[i].copy()}
+            if b.has_sonar:
+                terminal["sonar"] = b.term_sonar[i].copy()
+            info["terminal_observation"] = terminal
+            info["TimeLimit.truncated"] = bool(b.final[K.F_TRUNC, i] and not b.final[K.F_TERM, i])
+            info["is_success"] = bool(b.final[K.F_END, i] == END_SUCCESS)
             info["episode"] = {
                 "r": float(self._ep_return[i]),
                 "l": int(self._ep_len[i]),
@@ -113,10 +117,7 @@ class RovSB3VecEnv(VecEnv):
             }
             self._ep_return[i] = 0.0
             self._ep_len[i] = 0
-            b.reset_index(i)
-            for k, v in obs.items():
-                v[i] = b.obs_sonar[i] if k == "sonar" else b.obs_path[i]
-        return obs, rewards, dones, infos
+        return obs, rewards.astype(np.float32), dones, infos
 
     def close(self) -> None:
         pass

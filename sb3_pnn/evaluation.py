@@ -20,7 +20,7 @@ episodes rather than the same one 100 times. Pass ``start_noise=(0, 0)`` for the
 start at (0, 0) heading along the path.
 
 Episodes run in lock-step batches of ``n_envs`` vehicles (one batched ``predict`` per control
-step) on the natively batched simulator ``rov_envs.vector.RovBatch``; a finished vehicle starts the
+step) on the natively batched simulator ``rov_envs.engine.RovBatch``; a finished vehicle starts the
 next pending episode. Each episode depends only on its own seed, so the results do not depend on
 ``n_envs`` (for policies whose per-environment outputs do not depend on the rest of the batch).
 """
@@ -241,8 +241,8 @@ class _BatchBackend(_Backend):
 
     def __init__(self, task: str, n: int, env_kwargs: dict[str, Any]) -> None:
         from rov_envs import kernel as K
+        from rov_envs.engine import RovBatch
         from rov_envs.rewards import END_REASONS
-        from rov_envs.vector import RovBatch
 
         self._K = K
         self._reasons = END_REASONS
@@ -263,11 +263,11 @@ class _BatchBackend(_Backend):
         return self.batch.vehicle_obstacles(i)
 
     def positions(self) -> np.ndarray:
-        return self.batch.states[:, 0:2].copy()
+        return self.batch.positions()
 
     def start_errors(self) -> tuple[np.ndarray, np.ndarray]:
         K = self._K
-        return self.batch.out[:, K.O_AC].copy(), self.batch.out[:, K.O_G].copy()
+        return self.batch.out[K.O_AC].copy(), self.batch.out[K.O_G].copy()
 
     def step(self, actions: np.ndarray, active: np.ndarray) -> dict[str, np.ndarray]:
         K = self._K
@@ -277,14 +277,14 @@ class _BatchBackend(_Backend):
             actions = np.where(active, actions, 2)
         self.batch.step(actions)
         o = self.batch.out
-        end = o[:, K.O_END].astype(np.int64)
+        end = o[K.O_END].astype(np.int64)
         return {
-            "reward": o[:, K.O_R].copy(),
-            "done": (o[:, K.O_TERM] != 0) | (o[:, K.O_TRUNC] != 0),
+            "reward": o[K.O_R].copy(),
+            "done": (o[K.O_TERM] != 0) | (o[K.O_TRUNC] != 0),
             "end_reason": np.array([self._reasons[e] for e in end], dtype=object),
-            "cross_track": o[:, K.O_G].copy(),
-            "heading_error": o[:, K.O_AC].copy(),
-            "position": self.batch.states[:, 0:2].copy(),
+            "cross_track": o[K.O_G].copy(),
+            "heading_error": o[K.O_AC].copy(),
+            "position": self.batch.positions(),
         }
 
 

@@ -1,19 +1,16 @@
 """BlueROV2 physics core (no Gymnasium): Fossen 6-DOF dynamics, thrusters, sonar, LOS guidance.
 
 Modules: ``params`` (BlueROV2Params, calibration), ``thrusters`` (allocation, Table 1),
-``dynamics`` (eq. (1)-(7), RK4), ``sonar`` (sector sonar), ``guidance`` (LOS, eq. (16)),
-``fused`` (one numba call per control step for N vehicles).
+``dynamics`` (eq. (1)-(7)), ``integrator`` (RK4, SIMD over blocks of vehicles), ``sonar`` (sector
+sonar), ``guidance`` (LOS, eq. (16)).
 """
 
 from rov_envs.physics.dynamics import (
     DEFAULT_CONTROL_PERIOD,
     DEFAULT_SUBSTEPS,
     STATE_DIM,
-    advance,
-    advance_batch,
     derivative,
 )
-from rov_envs.physics.fused import advance_observe_batch, observe_batch
 from rov_envs.physics.guidance import (
     DEFAULT_LOOKAHEAD,
     PATH_SINE,
@@ -27,6 +24,7 @@ from rov_envs.physics.guidance import (
     los_straight,
     wrap_to_pi,
 )
+from rov_envs.physics.integrator import advance, advance_batch
 from rov_envs.physics.params import BlueROV2Params
 from rov_envs.physics.sonar import nearest_surface_distance, sonar_scan
 from rov_envs.physics.thrusters import ACTION_NAMES, ACTION_TABLE, continuous_to_speeds
@@ -47,14 +45,12 @@ __all__ = [
     "STRAIGHT_PATH_LENGTH",
     "advance",
     "advance_batch",
-    "advance_observe_batch",
     "continuous_to_speeds",
     "derivative",
     "los_guidance",
     "los_sine",
     "los_straight",
     "nearest_surface_distance",
-    "observe_batch",
     "sonar_scan",
     "wrap_to_pi",
 ]

@@ -23,16 +23,11 @@ Equations (``derivative``):
   eq. (7)      tau = T f, f_i = k |n_i| n_i, n_dot = (n_cmd - n) / t_lag (first-order lag K(s)).
 M^-1 is precomputed in the parameter array (``params.P_MINV``).
 
-Integration (``advance``): ``n_substeps`` classic fixed-step RK4 steps of length dt / n_substeps.
-Internally the attitude is carried as a unit quaternion (Fossen 2011 eq. 2.86: same kinematics
-as eq. (2), no trigonometry per stage, renormalised after every substep) and converted back to
-ZYX Euler angles at the end; the heading is kept continuous (not wrapped), by integrating
-psi_dot = (q sin(phi) + r cos(phi)) / cos(theta) beside the quaternion and taking the quaternion's
-heading on that branch. The thruster lag is linear and decoupled, so the speeds n(t) are taken
-from its exact solution n(t) = n_cmd + (n(0) - n_cmd) exp(-t / t_lag) at the RK4 stage times
-(the wrench tau is evaluated once per stage time and shared by stages 2 and 3). The whole RK4
-state lives in numba tuples (registers), so ``advance`` allocates nothing. The result converges
-to the Euler-angle ODE of ``derivative`` (tests/physics compare it with scipy's ``solve_ivp`` on an
+Integration: :mod:`rov_envs.physics.integrator` (``advance``, ``advance_batch`` and the SIMD
+block kernel the environments use) runs fixed-step RK4 on ``_rates``, the right-hand side above
+with the attitude carried as a unit quaternion (Fossen 2011 eq. 2.86: the kinematics of eq. (2)
+without trigonometry) and the heading psi integrated beside it. The result converges to the
+Euler-angle ODE of ``derivative`` (tests/physics compare it with scipy's ``solve_ivp`` on an
 independent numpy model).
 
 Control period: ``DEFAULT_CONTROL_PERIOD`` = 0.2 s with ``DEFAULT_SUBSTEPS`` = 4 (h = 0.05 s). The
@@ -44,10 +39,8 @@ the default differs from a 100-substep solution by < 1e-5 m in position, < 2e-4 
 and < 1e-3 m/s in velocity (measured along 100 s of random Table 1 actions with a current), and
 tests/physics/test_integration.py bounds the error after 6 s against ``solve_ivp``.
 
-All public functions are numba-compiled (callable from Python and from other njit code); they
-check array shapes (ValueError) but not dtypes beyond numba's typing: pass float64 arrays.
-For batched use (vector environments) see ``advance_batch`` and the fused per-control-step
-kernel ``rov_envs.physics.fused.advance_observe_batch`` (dynamics + sonar + LOS guidance).
+``derivative`` is numba-compiled (callable from Python and from other njit code); it checks array
+shapes (ValueError) but not dtypes beyond numba's typing: pass float64 arrays.
 """
 
 from __future__ import annotations
@@ -78,11 +71,7 @@ __all__ = [
     "N_THRUSTERS",
     "DEFAULT_CONTROL_PERIOD",
     "DEFAULT_SUBSTEPS",
-    "ADVANCE_WORK_SHAPE",
     "derivative",
-    "advance",
-    "advance_work",
-    "advance_batch",
 ]
 
 STATE_DIM = 18
@@ -91,11 +80,9 @@ DEFAULT_CONTROL_PERIOD = 0.2
 """Seconds between agent decisions (the env's control step)."""
 DEFAULT_SUBSTEPS = 4
 """RK4 substeps per control period (h = 0.05 s at the default period)."""
-ADVANCE_WORK_SHAPE = (4, 20)
-"""Shape of the (unused, API-stability) scratch array ``advance_work`` takes."""
 
-# internal RK4 state: 14-tuple (x, y, z, q0, q1, q2, q3, u, v, w, p, q, r, psi_continuous);
-# the thruster speeds follow their first-order lag exactly (closed form), see _advance_one.
+# internal RK4 state (``_rates``): 14-tuple (x, y, z, q0, q1, q2, q3, u, v, w, p, q, r, psi);
+# the thruster speeds follow their first-order lag exactly (closed form), see ``integrator``.
 
 
 @njit(cache=True, inline="always")
@@ -348,102 +335,6 @@ def _rk4_step(y, k1, k2, k3, k4, h6):
 
 
 @njit(cache=True)
-def _advance_one(state, cmd, P, vcx, vcy, vcz, dt, n_substeps):
-    """RK4 over one control period for one vehicle, in place (see module docstring)."""
-    # Euler (ZYX) -> quaternion
-    hf = 0.5 * state[3]
-    ht = 0.5 * state[4]
-    hp = 0.5 * state[5]
-    cr = math.cos(hf)
-    sr = math.sin(hf)
-    cp = math.cos(ht)
-    sp = math.sin(ht)
-    cy = math.cos(hp)
-    sy = math.sin(hp)
-    y = (
-        state[0], state[1], state[2],
-        cr * cp * cy + sr * sp * sy,
-        sr * cp * cy - cr * sp * sy,
-        cr * sp * cy + sr * cp * sy,
-        cr * cp * sy - sr * sp * cy,
-        state[6], state[7], state[8], state[9], state[10], state[11],
-        state[5],
-    )  # fmt: skip
-    # thruster lag, exact: n(t) = cmd + (n(0) - cmd) exp(-t / t_lag)
-    c0 = cmd[0]
-    c1 = cmd[1]
-    c2 = cmd[2]
-    c3 = cmd[3]
-    c4 = cmd[4]
-    c5 = cmd[5]
-    e0 = state[12] - c0
-    e1 = state[13] - c1
-    e2 = state[14] - c2
-    e3 = state[15] - c3
-    e4 = state[16] - c4
-    e5 = state[17] - c5
-    h = dt / n_substeps
-    h2 = 0.5 * h
-    h6 = h / 6.0
-    decay_half = math.exp(-h2 * P[P_INV_TAU])
-    tau_a = _wrench(c0 + e0, c1 + e1, c2 + e2, c3 + e3, c4 + e4, c5 + e5, P)
-    for _ in range(n_substeps):
-        e0 *= decay_half
-        e1 *= decay_half
-        e2 *= decay_half
-        e3 *= decay_half
-        e4 *= decay_half
-        e5 *= decay_half
-        tau_m = _wrench(c0 + e0, c1 + e1, c2 + e2, c3 + e3, c4 + e4, c5 + e5, P)
-        e0 *= decay_half
-        e1 *= decay_half
-        e2 *= decay_half
-        e3 *= decay_half
-        e4 *= decay_half
-        e5 *= decay_half
-        tau_b = _wrench(c0 + e0, c1 + e1, c2 + e2, c3 + e3, c4 + e4, c5 + e5, P)
-        k1 = _rates(y, tau_a, vcx, vcy, vcz, P)
-        k2 = _rates(_axpy(y, k1, h2), tau_m, vcx, vcy, vcz, P)
-        k3 = _rates(_axpy(y, k2, h2), tau_m, vcx, vcy, vcz, P)
-        k4 = _rates(_axpy(y, k3, h), tau_b, vcx, vcy, vcz, P)
-        y = _rk4_step(y, k1, k2, k3, k4, h6)
-        tau_a = tau_b
-
-    # quaternion -> Euler (ZYX); heading on the branch of the integrated continuous psi
-    q0 = y[3]
-    q1 = y[4]
-    q2 = y[5]
-    q3 = y[6]
-    r20 = 2.0 * (q1 * q3 - q0 * q2)
-    r21 = 2.0 * (q2 * q3 + q0 * q1)
-    r22 = 1.0 - 2.0 * (q1 * q1 + q2 * q2)
-    r10 = 2.0 * (q1 * q2 + q0 * q3)
-    r00 = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
-    state[0] = y[0]
-    state[1] = y[1]
-    state[2] = y[2]
-    state[3] = math.atan2(r21, r22)
-    state[4] = -math.asin(min(1.0, max(-1.0, r20)))
-    psi_q = math.atan2(r10, r00)
-    psi_c = y[13]
-    d = psi_q - psi_c
-    d -= 2.0 * math.pi * math.floor((d + math.pi) / (2.0 * math.pi))
-    state[5] = psi_c + d
-    state[6] = y[7]
-    state[7] = y[8]
-    state[8] = y[9]
-    state[9] = y[10]
-    state[10] = y[11]
-    state[11] = y[12]
-    state[12] = c0 + e0
-    state[13] = c1 + e1
-    state[14] = c2 + e2
-    state[15] = c3 + e3
-    state[16] = c4 + e4
-    state[17] = c5 + e5
-
-
-@njit(cache=True)
 def _check_shapes(state, cmd, P, current):
     if state.shape[0] != STATE_DIM:
         raise ValueError("state must be a float64 array of shape (18,)")
@@ -453,14 +344,6 @@ def _check_shapes(state, cmd, P, current):
         raise ValueError("p must be BlueROV2Params.to_array() (shape (P_SIZE,))")
     if current.shape[0] != 3:
         raise ValueError("current must be a float64 array of shape (3,) (world m/s)")
-
-
-@njit(cache=True)
-def _check_step(dt, n_substeps):
-    if not (dt > 0.0 and dt < math.inf):
-        raise ValueError("dt must be a positive finite number of seconds")
-    if n_substeps < 1:
-        raise ValueError("n_substeps must be an integer >= 1")
 
 
 @njit(cache=True)
@@ -474,46 +357,3 @@ def derivative(state, cmd, p, current, out):
     if out.shape[0] != STATE_DIM:
         raise ValueError("out must be a float64 array of shape (18,)")
     _derivative_euler(state, cmd, p, current, out)
-
-
-@njit(cache=True)
-def advance_work(state, cmd, p, current, dt, n_substeps, work):
-    """``advance`` taking a scratch array ``work`` (shape ``ADVANCE_WORK_SHAPE``), kept for API
-    stability: the integrator now keeps its state in registers and allocates nothing, so ``work``
-    is not touched and ``advance_work`` computes exactly what ``advance`` does.
-    """
-    _check_shapes(state, cmd, p, current)
-    _check_step(dt, n_substeps)
-    _advance_one(state, cmd, p, current[0], current[1], current[2], dt, n_substeps)
-
-
-@njit(cache=True)
-def advance(state, cmd, p, current, dt, n_substeps):
-    """Advance one vehicle by ``dt`` seconds in place with ``n_substeps`` RK4 steps.
-
-    state (18,) (psi stays continuous, not wrapped), cmd (6,) commanded speeds in rev/min held
-    over the period, p = ``BlueROV2Params.to_array()``, current (3,) world-frame m/s.
-    Numba-compiled: callable from Python and from other njit code.
-    """
-    _check_shapes(state, cmd, p, current)
-    _check_step(dt, n_substeps)
-    _advance_one(state, cmd, p, current[0], current[1], current[2], dt, n_substeps)
-
-
-@njit(cache=True)
-def advance_batch(states, cmds, p, currents, dt, n_substeps):
-    """``advance`` for N vehicles in place: states (N, 18), cmds (N, 6), currents (N, 3).
-
-    Row i evolves exactly (bit for bit) as ``advance`` on row i alone.
-    """
-    n = states.shape[0]
-    if states.shape[1] != STATE_DIM or cmds.shape[0] != n or cmds.shape[1] != N_THRUSTERS:
-        raise ValueError("states must have shape (N, 18) and cmds (N, 6)")
-    if currents.shape[0] != n or currents.shape[1] != 3 or p.shape[0] != P_SIZE:
-        raise ValueError("currents must have shape (N, 3) and p shape (P_SIZE,)")
-    _check_step(dt, n_substeps)
-    for i in range(n):
-        _advance_one(
-            states[i], cmds[i], p, currents[i, 0], currents[i, 1], currents[i, 2],
-            dt, n_substeps,
-        )  # fmt: skip

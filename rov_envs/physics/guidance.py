@@ -53,6 +53,7 @@ __all__ = [
     "sine_closest_point",
     "los_sine",
     "los_guidance",
+    "los_tuple",
 ]
 
 PATH_STRAIGHT = 0
@@ -67,7 +68,7 @@ _TWO_PI = 2.0 * math.pi
 _GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wrap_to_pi(angle):
     """Wrap an angle (rad) to (-pi, pi]."""
     return angle - _TWO_PI * math.ceil((angle - math.pi) / _TWO_PI)
@@ -79,15 +80,6 @@ def los_from_closest_point(x, y, psi, xp, yp, gamma_p, lookahead):
     e = -(x - xp) * math.sin(gamma_p) + (y - yp) * math.cos(gamma_p)
     chi_d = gamma_p - math.atan(e / lookahead)
     return wrap_to_pi(psi - chi_d), e
-
-
-@njit(cache=True)
-def los_straight(x, y, psi, lookahead, out):
-    """LOS on the line y = 0: out (3,) <- [a_c, e, progress] with e = y and progress = x."""
-    a_c, e = los_from_closest_point(x, y, psi, x, 0.0, 0.0, lookahead)
-    out[0] = a_c
-    out[1] = e
-    out[2] = x
 
 
 @njit(cache=True, inline="always")
@@ -193,14 +185,10 @@ def sine_closest_point(x, y, amplitude, wavelength, s_warm):
     return _sine_closest_global(x, y, amplitude, k)
 
 
-@njit(cache=True)
-def los_sine(x, y, psi, amplitude, wavelength, lookahead, out):
-    """LOS on y = A sin(2 pi x / wavelength): out (3,) <- [a_c, e, progress].
-
-    out[2] is READ first as the closest-point warm start (the previous progress; NaN = global
-    search, e.g. right after reset), then overwritten with the new progress (closest-point x).
-    """
-    s = sine_closest_point(x, y, amplitude, wavelength, out[2])
+@njit(cache=True, inline="always")
+def _los_sine(x, y, psi, amplitude, wavelength, lookahead, s_warm):
+    """(a_c, e, progress) on the sinusoid, warm-started at ``s_warm`` (NaN = global search)."""
+    s = sine_closest_point(x, y, amplitude, wavelength, s_warm)
     k = _TWO_PI / wavelength
     yp = amplitude * math.sin(k * s)
     slope = amplitude * k * math.cos(k * s)  # tan(gamma_p)
@@ -208,15 +196,37 @@ def los_sine(x, y, psi, amplitude, wavelength, lookahead, out):
     # e = -(x - x_p) sin(gamma_p) + (y - y_p) cos(gamma_p)
     e = ((y - yp) - (x - s) * slope) * inv
     chi_d = math.atan(slope) - math.atan(e / lookahead)
-    out[0] = wrap_to_pi(psi - chi_d)
-    out[1] = e
-    out[2] = s
+    return wrap_to_pi(psi - chi_d), e, s
+
+
+@njit(cache=True)
+def los_sine(x, y, psi, amplitude, wavelength, lookahead, out):
+    """LOS on y = A sin(2 pi x / wavelength): out (3,) <- [a_c, e, progress].
+
+    out[2] is READ first as the closest-point warm start (the previous progress; NaN = global
+    search, e.g. right after reset), then overwritten with the new progress (closest-point x).
+    """
+    out[0], out[1], out[2] = _los_sine(x, y, psi, amplitude, wavelength, lookahead, out[2])
+
+
+@njit(cache=True, inline="always")
+def los_tuple(path_kind, x, y, psi, amplitude, wavelength, lookahead, s_warm):
+    """``los_guidance`` returning (a_c, e, progress); ``s_warm`` is the sine warm start."""
+    if path_kind == PATH_SINE:
+        return _los_sine(x, y, psi, amplitude, wavelength, lookahead, s_warm)
+    # straight line y = 0: closest point (x, 0), tangent 0, e = y (eq. 16)
+    return wrap_to_pi(psi + math.atan(y / lookahead)), y, x
+
+
+@njit(cache=True)
+def los_straight(x, y, psi, lookahead, out):
+    """LOS on the line y = 0: out (3,) <- [a_c, e, progress] with e = y and progress = x."""
+    out[0], out[1], out[2] = los_tuple(PATH_STRAIGHT, x, y, psi, 0.0, 1.0, lookahead, math.nan)
 
 
 @njit(cache=True)
 def los_guidance(path_kind, x, y, psi, amplitude, wavelength, lookahead, out):
     """Dispatch on ``path_kind`` (PATH_STRAIGHT or PATH_SINE); out (3,) <- [a_c, e, progress]."""
-    if path_kind == PATH_SINE:
-        los_sine(x, y, psi, amplitude, wavelength, lookahead, out)
-    else:
-        los_straight(x, y, psi, lookahead, out)
+    out[0], out[1], out[2] = los_tuple(
+        path_kind, x, y, psi, amplitude, wavelength, lookahead, out[2]
+    )

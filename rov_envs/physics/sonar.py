@@ -32,8 +32,8 @@ __all__ = [
 
 
 @njit(cache=True, inline="always")
-def _scan(x, y, psi, obstacles, n_obs, span, max_range, out):
-    """Core of ``sonar_scan`` over obstacles[:n_obs]."""
+def _scan(x, y, cpsi, spsi, obstacles, n_obs, span, max_range, out):
+    """Core of ``sonar_scan`` over obstacles[:n_obs]; (cpsi, spsi) = (cos, sin) of the heading."""
     q = out.shape[0]
     for i in range(q):
         out[i] = max_range
@@ -41,8 +41,6 @@ def _scan(x, y, psi, obstacles, n_obs, span, max_range, out):
         return
     half = 0.5 * span
     width = span / q
-    cpsi = math.cos(psi)
-    spsi = math.sin(psi)
     # first boundary ray (relative bearing -S/2) and the rotation by one sector width
     c_first = math.cos(half)
     s_first = -math.sin(half)
@@ -117,14 +115,14 @@ def sonar_scan(x, y, psi, obstacles, span, max_range, out):
     Numba-compiled: callable from Python and from other njit code.
     """
     _check_scan(obstacles, obstacles.shape[0], span, max_range, out)
-    _scan(x, y, psi, obstacles, obstacles.shape[0], span, max_range, out)
+    _scan(x, y, math.cos(psi), math.sin(psi), obstacles, obstacles.shape[0], span, max_range, out)
 
 
 @njit(cache=True)
 def sonar_scan_n(x, y, psi, obstacles, n_obs, span, max_range, out):
     """``sonar_scan`` over the first ``n_obs`` rows of a padded obstacle array."""
     _check_scan(obstacles, n_obs, span, max_range, out)
-    _scan(x, y, psi, obstacles, n_obs, span, max_range, out)
+    _scan(x, y, math.cos(psi), math.sin(psi), obstacles, n_obs, span, max_range, out)
 
 
 @njit(cache=True, inline="always")

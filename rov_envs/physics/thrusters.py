@@ -18,6 +18,7 @@ __all__ = [
     "ACTION_TABLE",
     "N_ACTIONS",
     "allocation_matrix",
+    "continuous_pair_speeds",
     "continuous_to_speeds",
     "continuous_to_speeds_into",
     "thrust_from_speeds",
@@ -68,8 +69,8 @@ def _check_unit(name: str, value: float) -> float:
 
 
 @njit(cache=True)
-def continuous_to_speeds_into(surge, yaw, max_speed, out):
-    """njit, allocation-free core of ``continuous_to_speeds``: writes T1..T6 into ``out`` (6,).
+def continuous_pair_speeds(surge, yaw, max_speed):
+    """(n_left, n_right): the speeds of T1 (= -T3) and T2 (= -T4) for ``continuous_to_speeds``.
 
     Inputs are clipped to [-1, 1] here (``continuous_to_speeds`` refuses out-of-range values).
     """
@@ -79,6 +80,16 @@ def continuous_to_speeds_into(surge, yaw, max_speed, out):
     right = min(1.0, max(-1.0, s + y))
     n_left = math.copysign(math.sqrt(abs(left)), left) * max_speed
     n_right = math.copysign(math.sqrt(abs(right)), right) * max_speed
+    return n_left, n_right
+
+
+@njit(cache=True)
+def continuous_to_speeds_into(surge, yaw, max_speed, out):
+    """njit, allocation-free core of ``continuous_to_speeds``: writes T1..T6 into ``out`` (6,).
+
+    Inputs are clipped to [-1, 1] here (``continuous_to_speeds`` refuses out-of-range values).
+    """
+    n_left, n_right = continuous_pair_speeds(surge, yaw, max_speed)
     out[0] = n_left
     out[1] = n_right
     out[2] = -n_left

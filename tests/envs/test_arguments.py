@@ -8,8 +8,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from rov_envs.kernel import continuous_command
-from rov_envs.physics.thrusters import continuous_to_speeds
+from rov_envs.physics.thrusters import ACTION_TABLE, continuous_to_speeds
 
 BAD = [
     ("obstacles", [(1.0, 2.0)]),
@@ -121,9 +120,16 @@ def test_sonar_noise_only_on_returns() -> None:
     assert np.any(noisy_obs["sonar"][seen] != clean_obs["sonar"][seen])
 
 
-@pytest.mark.parametrize("surge", [-1.0, -0.4, 0.0, 0.3, 1.0])
-@pytest.mark.parametrize("yaw", [-1.0, -0.5, 0.0, 0.25, 0.5, 1.0])
-def test_continuous_mapping_is_physics_mapping(surge: float, yaw: float) -> None:
-    cmd = np.zeros(6)
-    continuous_command(surge, yaw, 8000.0, cmd)
-    np.testing.assert_allclose(cmd, continuous_to_speeds(surge, yaw), rtol=0, atol=1e-9)
+@pytest.mark.parametrize(("surge", "yaw", "row"), [(1.0, 0.0, 2), (0.5, 0.5, 1), (0.5, -0.5, 4)])
+def test_continuous_mapping_in_the_env(surge: float, yaw: float, row: int) -> None:
+    """(1, 0) is "Go straight", (0.5, +-0.5) "Turn left/right 2": the env steps alike."""
+    np.testing.assert_allclose(continuous_to_speeds(surge, yaw), ACTION_TABLE[row], atol=1e-9)
+    cont = gym.make("rov_envs/PathFollowingStraight-v0", continuous=True)
+    disc = gym.make("rov_envs/PathFollowingStraight-v0")
+    cont.reset(seed=0)
+    disc.reset(seed=0)
+    for _ in range(4):  # 0.8 s: the turns end the episode (|a_c| >= pi/2) soon after
+        c_obs, c_r, *_ = cont.step(np.array([surge, yaw], dtype=np.float32))
+        d_obs, d_r, *_ = disc.step(row)
+    np.testing.assert_allclose(cont.unwrapped.state, disc.unwrapped.state, rtol=0, atol=1e-9)
+    assert c_r == pytest.approx(d_r, abs=1e-9)

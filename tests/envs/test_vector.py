@@ -18,35 +18,17 @@ def _actions(rng: np.random.Generator, n: int, continuous: bool) -> np.ndarray:
     return rng.integers(0, 5, size=n)
 
 
-@pytest.mark.parametrize(
-    ("env_id", "continuous"),
-    [
-        ("rov_envs/PlanningSineDense-v0", False),
-        ("rov_envs/ObstacleAvoidance-v0", False),
-        ("rov_envs/PlanningStraight-v0", True),
-        ("rov_envs/PathFollowingSine-v0", False),
-    ],
-)
-def test_batched_equals_single(env_id: str, continuous: bool) -> None:
-    n = 3
-    venv = gym.make_vec(
-        env_id, num_envs=n, vectorization_mode="vector_entry_point", continuous=continuous, **KW
-    )
-    assert isinstance(venv, RovVectorEnv)
-    singles = [gym.make(env_id, continuous=continuous, **KW) for _ in range(n)]
-    vobs, _ = venv.reset(seed=7)
-    for i, env in enumerate(singles):
-        obs, _ = env.reset(seed=7 + i)
-        for k in obs:
-            np.testing.assert_array_equal(obs[k], vobs[k][i])
-        np.testing.assert_array_equal(env.unwrapped.obstacles, venv.batch.vehicle_obstacles(i))
-    rng = np.random.default_rng(0)
-    pending = [False] * n
+def _lockstep(venv, singles: dict, steps: int, continuous: bool = False, seed: int = 0) -> int:
+    """Step the batch and the single envs (vehicle i <-> singles[i]) side by side with the same
+    random actions, the singles reset the step after they end (Gymnasium's next-step autoreset);
+    assert every transition equal. Returns the number of episodes that ended."""
+    rng = np.random.default_rng(seed)
+    pending = dict.fromkeys(singles, False)
     ends = 0
-    for _ in range(250):  # 100 steps per episode: several autoresets
-        acts = _actions(rng, n, continuous)
+    for _ in range(steps):
+        acts = _actions(rng, venv.num_envs, continuous)
         vobs, vr, vterm, vtrunc, vinfo = venv.step(acts)
-        for i, env in enumerate(singles):
+        for i, env in singles.items():
             if pending[i]:
                 obs, info = env.reset()
                 r, term, trunc = 0.0, False, False
@@ -63,7 +45,47 @@ def test_batched_equals_single(env_id: str, continuous: bool) -> None:
             assert (r, term, trunc) == (vr[i], vterm[i], vtrunc[i])
             np.testing.assert_array_equal(info["position"], vinfo["position"][i])
             assert info["cross_track"] == vinfo["cross_track"][i]
-    assert ends >= n
+            np.testing.assert_array_equal(env.unwrapped.obstacles, venv.batch.vehicle_obstacles(i))
+    return ends
+
+
+@pytest.mark.parametrize(
+    ("env_id", "continuous"),
+    [
+        ("rov_envs/PlanningSineDense-v0", False),
+        ("rov_envs/ObstacleAvoidance-v0", False),
+        ("rov_envs/PlanningStraight-v0", True),
+        ("rov_envs/PathFollowingSine-v0", False),
+    ],
+)
+def test_batched_equals_single(env_id: str, continuous: bool) -> None:
+    n = 3
+    venv = gym.make_vec(
+        env_id, num_envs=n, vectorization_mode="vector_entry_point", continuous=continuous, **KW
+    )
+    assert isinstance(venv, RovVectorEnv)
+    singles = {i: gym.make(env_id, continuous=continuous, **KW) for i in range(n)}
+    vobs, _ = venv.reset(seed=7)
+    for i, env in singles.items():
+        obs, _ = env.reset(seed=7 + i)
+        for k in obs:
+            np.testing.assert_array_equal(obs[k], vobs[k][i])
+    # 100 steps per episode at most: several autoresets
+    assert _lockstep(venv, singles, 250, continuous) >= n
+
+
+def test_threaded_batch_equals_single_envs() -> None:
+    """Enough vehicles for the threaded kernel: sampled vehicles still equal single envs."""
+    from rov_envs.engine import PARALLEL_MIN_ENVS
+
+    n = PARALLEL_MIN_ENVS + 6
+    env_id = "rov_envs/PlanningStraightDense-v0"
+    venv = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point", **KW)
+    venv.reset(seed=100)
+    singles = {i: gym.make(env_id, **KW) for i in (0, 17, n - 1)}
+    for i, env in singles.items():
+        env.reset(seed=100 + i)
+    assert _lockstep(venv, singles, 120, seed=5) >= len(singles)
 
 
 def test_vector_infos_are_arrays() -> None:
@@ -87,9 +109,11 @@ def test_sb3_adapter_same_step_reset() -> None:
     single = gym.make("rov_envs/PathFollowingStraight-v0", max_episode_seconds=2.0)
     sobs, _ = single.reset(seed=3)
     np.testing.assert_array_equal(obs["path"][0], sobs["path"])
+    returns = 0.0
     for k in range(10):
         obs, rewards, dones, infos = venv.step(np.array([2, 2]))
         sobs, sr, st, str_, sinfo = single.step(2)
+        returns += sr
         assert rewards.dtype == np.float32 and rewards[0] == np.float32(sr)
         if k < 9:
             assert not dones.any() and infos[0] == {}
@@ -98,6 +122,7 @@ def test_sb3_adapter_same_step_reset() -> None:
     np.testing.assert_array_equal(info["terminal_observation"]["path"], sobs["path"])
     assert info["TimeLimit.truncated"] is True and info["is_success"] is False
     assert info["episode"]["l"] == 10
+    assert info["episode"]["r"] == pytest.approx(returns, rel=1e-6)
     # the returned observation is already the next episode's first one
     sobs, _ = single.reset()
     np.testing.assert_array_equal(obs["path"][0], sobs["path"])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rov_envs.physics import ACTION_TABLE, BlueROV2Params
-from rov_envs.physics.dynamics import advance
+from rov_envs.physics.integrator import advance
 
 P = BlueROV2Params().to_array()
 ZERO = np.zeros(3)

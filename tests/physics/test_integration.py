@@ -14,13 +14,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from rov_envs.physics import ACTION_TABLE, BlueROV2Params
-from rov_envs.physics.dynamics import (
-    DEFAULT_CONTROL_PERIOD,
-    DEFAULT_SUBSTEPS,
-    advance,
-    advance_batch,
-    derivative,
-)
+from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD, DEFAULT_SUBSTEPS, derivative
+from rov_envs.physics.integrator import advance, advance_batch
 
 
 def skew(a):

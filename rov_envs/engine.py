@@ -1,0 +1,188 @@
+"""The engine behind every rov_envs environment: arrays and kernels for N vehicles on one task.
+
+:class:`RovBatch` owns the lane buffer of the physics (:mod:`rov_envs.physics.integrator`), each
+vehicle's obstacles, random stream, counters and observation buffers, and calls the kernels of
+:mod:`rov_envs.kernel`. It has no autoreset policy of its own: :class:`rov_envs.env.RovEnv` runs
+it with N = 1, :class:`rov_envs.vector.RovVectorEnv` (Gymnasium) and
+:class:`rov_envs.sb3.RovSB3VecEnv` (Stable-Baselines3) with N vehicles and their autoreset modes,
+and ``sb3_pnn.evaluation`` steps it directly.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium.utils import seeding
+
+from rov_envs import kernel as K
+from rov_envs.config import EnvConfig, make_config
+from rov_envs.episode import cfg_array, obstacle_capacity
+from rov_envs.physics.dynamics import STATE_DIM
+from rov_envs.physics.integrator import load_euler_state, new_lanes
+from rov_envs.physics.thrusters import ACTION_TABLE
+from rov_envs.random_stream import stream_seed
+from rov_envs.rewards import END_COLLISION
+from rov_envs.spaces import make_spaces
+
+#: Vehicles from which ``step`` spreads the blocks over numba's threads (same numbers either way).
+PARALLEL_MIN_ENVS = 64
+
+K.check_compiled_params()
+
+
+class RovBatch:
+    """N vehicles on one task (``config`` or ``task`` plus the single env's keyword arguments)."""
+
+    def __init__(
+        self,
+        num_envs: int,
+        task: str = "PlanningStraight",
+        config: EnvConfig | None = None,
+        **kwargs: Any,
+    ) -> None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)):
+            raise ValueError(f"num_envs={num_envs!r} is not allowed: expected an int >= 1")
+        if num_envs < 1:
+            raise ValueError(f"num_envs={num_envs!r} is not allowed: expected an int >= 1")
+        self.config: EnvConfig = config if config is not None else make_config(task, **kwargs)
+        self.num_envs = n = int(num_envs)
+        self.single_observation_space, self.single_action_space = make_spaces(self.config)
+        c = self.config
+        self.has_sonar = c.has_sonar
+        self.continuous = c.continuous
+        q = c.sonar_sectors if c.has_sonar else 0
+        m = obstacle_capacity(c)
+        self.table = np.ascontiguousarray(ACTION_TABLE, dtype=np.float64)
+        self.cfg = cfg_array(c)
+        self.lanes = new_lanes(n)
+        self.obstacles = np.zeros((n, m, 3))
+        self.n_obs = np.zeros(n, dtype=np.int64)
+        fixed = c.fixed_obstacles()
+        if fixed is not None and fixed.shape[0]:
+            self.obstacles[:] = fixed
+            self.n_obs[:] = fixed.shape[0]
+        self.rng = np.zeros(n, dtype=np.uint64)
+        self.sonar_raw = np.zeros((n, q))
+        self.obs_path = np.zeros((n, 2), dtype=np.float32)
+        self.obs_sonar = np.zeros((n, q), dtype=np.float32)
+        #: results and counters, one row per ``rov_envs.kernel.O_*`` field
+        self.out = np.zeros((K.O_SIZE, n))
+        #: per vehicle: autoreset pending (next-step mode) / was reset this step (same-step mode)
+        self.pending = np.zeros(n, dtype=np.bool_)
+        self.term_path = np.zeros((n, 2), dtype=np.float32)
+        self.term_sonar = np.zeros((n, q), dtype=np.float32)
+        self.final = np.zeros((K.F_SIZE, n))
+        self.seeded = np.zeros(n, dtype=np.bool_)
+        self._no_int = np.zeros(n, dtype=np.int64)
+        self._no_cont = np.zeros((n, 2))
+        self._kernel = K.step_batch_parallel if n >= PARALLEL_MIN_ENVS else K.step_batch
+        #: the arrays ``kernel.step_batch`` takes after (mode, n, actions, cont, continuous)
+        self.step_arrays = (
+            self.table, self.cfg, self.lanes, self.obstacles, self.n_obs, self.rng,
+            self.sonar_raw, self.obs_path, self.obs_sonar, self.out, self.pending, self.term_path,
+            self.term_sonar, self.final,
+        )  # fmt: skip
+
+    # ---- episodes ----
+    def _arrays(self) -> tuple:
+        return (
+            self.lanes, self.cfg, self.obstacles, self.n_obs, self.rng, self.sonar_raw,
+            self.obs_path, self.obs_sonar, self.out,
+        )  # fmt: skip
+
+    def seed_stream(self, i: int, generator: np.random.Generator) -> None:
+        """Seed vehicle i's random stream from ``generator`` (one draw)."""
+        self.rng[i] = stream_seed(generator)
+        self.seeded[i] = True
+
+    def reset_index(self, i: int, seed: int | None = None) -> None:
+        """Start vehicle i's next episode; ``seed`` (or a first reset) seeds its stream first."""
+        if seed is not None or not self.seeded[i]:
+            self.seed_stream(i, seeding.np_random(seed)[0])
+        K.reset_vehicle(i, *self._arrays())
+
+    def reset_all(self, seeds: list[int | None]) -> None:
+        """Start every vehicle's next episode; vehicle i's stream is seeded with ``seeds[i]``
+        when that is not None or the vehicle was never seeded."""
+        for i, s in enumerate(seeds):
+            if s is not None or not self.seeded[i]:
+                self.seed_stream(i, seeding.np_random(s)[0])
+        K.reset_all(self.num_envs, *self._arrays())
+
+    def set_pose(self, i: int, x: float, y: float, heading: float) -> None:
+        """Put vehicle i at rest at (x, y) with ``heading`` (rad), clear its counters, observe."""
+        K.place_vehicle(i, self.lanes, self.cfg, x, y, heading)
+        K.start_episode(i, *self._arrays())
+
+    # ---- stepping ----
+    def step(self, actions: Any, mode: int = K.MODE_PLAIN) -> None:
+        """Advance every vehicle one control period (results in ``out``, ``obs_*``)."""
+        n = self.num_envs
+        if self.continuous:
+            a = np.asarray(actions, dtype=np.float64)
+            if a.shape != (n, 2):
+                raise ValueError(
+                    f"actions of shape {a.shape} are not allowed: expected ({n}, 2) finite floats"
+                )
+            ai, ac = self._no_int, np.ascontiguousarray(a)
+        else:
+            ai = np.asarray(actions)
+            if ai.shape != (n,) or ai.dtype.kind not in "iu":
+                raise ValueError(
+                    f"actions={actions!r} are not allowed: expected ({n},) ints in [0, 4]"
+                )
+            ai = ai.astype(np.int64, copy=False)
+            ac = self._no_cont
+        bad = K.first_bad_action(n, ai, ac, self.continuous, self.table.shape[0])
+        if bad >= 0:
+            what = "two finite floats" if self.continuous else "an int in [0, 4]"
+            got = ac[bad] if self.continuous else ai[bad]
+            raise ValueError(
+                f"actions[{bad}]={got!r} is not allowed: expected {what} for every vehicle"
+            )
+        self._kernel(mode, n, ai, ac, self.continuous, *self.step_arrays)
+
+    # ---- reading ----
+    def positions(self) -> np.ndarray:
+        """(N, 2) world x, y (m)."""
+        return self.out[K.O_X : K.O_Y + 1].T.copy()
+
+    def headings(self) -> np.ndarray:
+        """(N,) heading psi (rad, continuous: not wrapped)."""
+        return self.out[K.O_PSI].copy()
+
+    def state(self, i: int) -> np.ndarray:
+        """Vehicle i's 18-dim Euler-angle state (``rov_envs.physics.dynamics`` layout)."""
+        out = np.zeros(STATE_DIM)
+        load_euler_state(self.lanes, i, out)
+        return out
+
+    def vehicle_obstacles(self, i: int) -> np.ndarray:
+        """Vehicle i's current obstacles (M_i, 3) (a copy)."""
+        return self.obstacles[i, : self.n_obs[i]].copy()
+
+    def observations(self) -> dict[str, np.ndarray]:
+        """The current observations (copies)."""
+        if self.has_sonar:
+            return {"path": self.obs_path.copy(), "sonar": self.obs_sonar.copy()}
+        return {"path": self.obs_path.copy()}
+
+    def infos(self) -> dict[str, np.ndarray]:
+        """Per-vehicle info arrays (the single env's info keys, batched), views of one copy."""
+        o = self.out.copy()
+        return {
+            "position": o[K.O_X : K.O_Y + 1].T,
+            "heading": o[K.O_PSI],
+            "velocity": o[K.O_U : K.O_YAW_RATE + 1].T,
+            "cross_track": o[K.O_G],
+            "heading_error": o[K.O_AC],
+            "obstacle_distance": o[K.O_D],
+            "progress": o[K.O_PROG],
+            "collision": o[K.O_END] == END_COLLISION,
+            "r_c": o[K.O_RC],
+            "r_v": o[K.O_RV],
+            "r_terminal": o[K.O_RT],
+            "end_code": o[K.O_END].astype(np.int64),
+            "steps": o[K.O_STEPS].astype(np.int64),
+        }

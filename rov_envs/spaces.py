@@ -1,0 +1,22 @@
+"""Observation and action spaces of a task (shared by the single and the batched environments)."""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from rov_envs.config import EnvConfig
+from rov_envs.physics.thrusters import ACTION_TABLE
+
+
+def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
+    """``Dict(path[, sonar])`` observations; ``Discrete(5)`` or ``Box(-1, 1, (2,))`` actions."""
+    parts: dict[str, spaces.Space] = {"path": spaces.Box(-1.0, 1.0, (2,), np.float32)}
+    if config.has_sonar:
+        parts["sonar"] = spaces.Box(0.0, 1.0, (config.sonar_sectors,), np.float32)
+    action: spaces.Space
+    if config.continuous:
+        action = spaces.Box(-1.0, 1.0, (2,), np.float32)
+    else:
+        action = spaces.Discrete(ACTION_TABLE.shape[0])
+    return spaces.Dict(parts), action
