@@ -15,6 +15,11 @@ default: a vehicle flagged in ``pending`` is reset instead of stepped, with rewa
 ending; ``pending`` then flags the vehicles that ended this step) and ``MODE_SAME_STEP`` (SB3:
 a vehicle that ends is reset in the same call, its final observation copied to ``term_path`` /
 ``term_sonar`` and its final reward and ending to ``final``, and flagged in ``pending``).
+
+Per-vehicle results live in ``out`` with one row per field (``O_*``), so that each info array the
+environments return is one contiguous row. The step path is compiled with ``_nrt=False``:
+numba's reference counting of array arguments (atomic operations on every call of a function
+taking arrays, shared between the threads) cost more than the whole task layer.
 """
 
 from __future__ import annotations

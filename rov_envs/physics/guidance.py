@@ -148,25 +148,45 @@ def _sine_closest_global(x, y, amp, k):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sine_closest_warm(x, y, amp, k, s_warm, max_step):
-    """Newton from s_warm; returns the root or NaN when it fails (caller falls back)."""
+    """Newton from s_warm: (s, sin(ks), cos(ks)), or s = NaN when it fails (caller falls back).
+
+    Stops once a step is below 1e-7 (1 + |s|): convergence is quadratic, so the point is then
+    exact to about 1e-13 m.
+    """
     s = s_warm
     for _ in range(12):
         g, dg = _grad(s, x, y, amp, k)
         if not dg > 0.0:  # also catches NaN
-            return math.nan
+            return math.nan, 0.0, 0.0
         step = g / dg
         if not abs(step) <= max_step:
-            return math.nan
+            return math.nan, 0.0, 0.0
         s -= step
-        if abs(step) <= 1e-10 * (1.0 + abs(s)):
+        if abs(step) <= 1e-7 * (1.0 + abs(s)):
+            sn = math.sin(k * s)
+            cs = math.cos(k * s)
             # accept only a point no farther than the one straight above/below the vehicle
             vert = amp * math.sin(k * x) - y
-            if _dist2(s, x, y, amp, k) <= vert * vert * (1.0 + 1e-12) + 1e-18:
-                return s
-            return math.nan
-    return math.nan
+            dy = amp * sn - y
+            if (s - x) * (s - x) + dy * dy <= vert * vert * (1.0 + 1e-12) + 1e-18:
+                return s, sn, cs
+            return math.nan, 0.0, 0.0
+    return math.nan, 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
+def _sine_closest(x, y, amp, k, s_warm, max_step):
+    """(s, sin(ks), cos(ks)) for the closest point: warm Newton, else the global search."""
+    if amp == 0.0:
+        return x, math.sin(k * x), math.cos(k * x)
+    if s_warm == s_warm:
+        s, sn, cs = _sine_closest_warm(x, y, amp, k, s_warm, max_step)
+        if s == s:
+            return s, sn, cs
+    s = _sine_closest_global(x, y, amp, k)
+    return s, math.sin(k * s), math.cos(k * s)
 
 
 @njit(cache=True)
@@ -176,22 +196,16 @@ def sine_closest_point(x, y, amplitude, wavelength, s_warm):
     ``s_warm``: previous closest point for a Newton warm start, or NaN for a global search.
     """
     k = _TWO_PI / wavelength
-    if amplitude == 0.0:
-        return x
-    if s_warm == s_warm:
-        s = _sine_closest_warm(x, y, amplitude, k, s_warm, 0.125 * wavelength)
-        if s == s:
-            return s
-    return _sine_closest_global(x, y, amplitude, k)
+    return _sine_closest(x, y, amplitude, k, s_warm, 0.125 * wavelength)[0]
 
 
 @njit(cache=True, inline="always")
 def _los_sine(x, y, psi, amplitude, wavelength, lookahead, s_warm):
     """(a_c, e, progress) on the sinusoid, warm-started at ``s_warm`` (NaN = global search)."""
-    s = sine_closest_point(x, y, amplitude, wavelength, s_warm)
     k = _TWO_PI / wavelength
-    yp = amplitude * math.sin(k * s)
-    slope = amplitude * k * math.cos(k * s)  # tan(gamma_p)
+    s, sn, cs = _sine_closest(x, y, amplitude, k, s_warm, 0.125 * wavelength)
+    yp = amplitude * sn
+    slope = amplitude * k * cs  # tan(gamma_p)
     inv = 1.0 / math.sqrt(1.0 + slope * slope)  # cos(gamma_p)
     # e = -(x - x_p) sin(gamma_p) + (y - y_p) cos(gamma_p)
     e = ((y - yp) - (x - s) * slope) * inv
