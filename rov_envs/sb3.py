@@ -101,22 +101,27 @@ class RovSB3VecEnv(VecEnv):
             infos = [{k: full[k][i] for k in self.info_keys} for i in range(self.num_envs)]
         else:
             infos = [{} for _ in range(self.num_envs)]
-        for i in ended:
-            i = int(i)
-            info = infos[i]
-            terminal = {"path": b.term_path[i].copy()}
-            if b.has_sonar:
-                terminal["sonar"] = b.term_sonar[i].copy()
-            info["terminal_observation"] = terminal
-            info["TimeLimit.truncated"] = bool(b.final[K.F_TRUNC, i] and not b.final[K.F_TERM, i])
-            info["is_success"] = bool(b.final[K.F_END, i] == END_SUCCESS)
-            info["episode"] = {
-                "r": float(self._ep_return[i]),
-                "l": int(self._ep_len[i]),
-                "t": round(time.time() - self._t0, 6),
-            }
-            self._ep_return[i] = 0.0
-            self._ep_len[i] = 0
+        if ended.size:
+            final = b.final[:, ended]
+            truncated = ((final[K.F_TRUNC] != 0) & (final[K.F_TERM] == 0)).tolist()
+            success = (final[K.F_END] == END_SUCCESS).tolist()
+            returns = self._ep_return[ended].tolist()
+            lengths = self._ep_len[ended].tolist()
+            paths = b.term_path[ended]  # copies: the rows below outlive later steps
+            sonars = b.term_sonar[ended] if b.has_sonar else None
+            t = round(time.time() - self._t0, 6)
+            for j, i in enumerate(ended.tolist()):
+                terminal = {"path": paths[j]}
+                if sonars is not None:
+                    terminal["sonar"] = sonars[j]
+                infos[i].update(
+                    terminal_observation=terminal,
+                    is_success=success[j],
+                    episode={"r": returns[j], "l": lengths[j], "t": t},
+                )
+                infos[i]["TimeLimit.truncated"] = truncated[j]
+            self._ep_return[ended] = 0.0
+            self._ep_len[ended] = 0
         return obs, rewards.astype(np.float32), dones, infos
 
     def close(self) -> None:
