@@ -45,6 +45,10 @@ class RovBatch:
             raise ValueError(f"num_envs={num_envs!r} is not allowed: expected an int >= 1")
         if num_envs < 1:
             raise ValueError(f"num_envs={num_envs!r} is not allowed: expected an int >= 1")
+        if config is not None and kwargs:
+            raise ValueError(
+                f"{sorted(kwargs)[0]}=... is not allowed together with config: pass one of them"
+            )
         self.config: EnvConfig = config if config is not None else make_config(task, **kwargs)
         self.num_envs = n = int(num_envs)
         self.single_observation_space, self.single_action_space = make_spaces(self.config)
@@ -91,13 +95,27 @@ class RovBatch:
             self.obs_path, self.obs_sonar, self.out,
         )  # fmt: skip
 
+    def _index(self, i: int) -> int:
+        """``i`` checked against the batch (the kernels do not check their indices)."""
+        if (
+            isinstance(i, bool)
+            or not isinstance(i, (int, np.integer))
+            or not 0 <= i < self.num_envs
+        ):
+            raise ValueError(
+                f"i={i!r} is not allowed: expected a vehicle index in [0, {self.num_envs})"
+            )
+        return int(i)
+
     def seed_stream(self, i: int, generator: np.random.Generator) -> None:
         """Seed vehicle i's random stream from ``generator`` (one draw)."""
+        i = self._index(i)
         self.rng[i] = stream_seed(generator)
         self.seeded[i] = True
 
     def reset_index(self, i: int, seed: int | None = None) -> None:
         """Start vehicle i's next episode; ``seed`` (or a first reset) seeds its stream first."""
+        i = self._index(i)
         if seed is not None or not self.seeded[i]:
             self.seed_stream(i, seeding.np_random(seed)[0])
         K.reset_vehicle(i, *self._arrays())
@@ -105,6 +123,10 @@ class RovBatch:
     def reset_all(self, seeds: list[int | None]) -> None:
         """Start every vehicle's next episode; vehicle i's stream is seeded with ``seeds[i]``
         when that is not None or the vehicle was never seeded."""
+        if len(seeds) != self.num_envs:
+            raise ValueError(
+                f"seeds of length {len(seeds)} are not allowed: expected {self.num_envs}"
+            )
         for i, s in enumerate(seeds):
             if s is not None or not self.seeded[i]:
                 self.seed_stream(i, seeding.np_random(s)[0])
@@ -112,7 +134,11 @@ class RovBatch:
 
     def set_pose(self, i: int, x: float, y: float, heading: float) -> None:
         """Put vehicle i at rest at (x, y) with ``heading`` (rad), clear its counters, observe."""
-        K.place_vehicle(i, self.lanes, self.cfg, x, y, heading)
+        i = self._index(i)
+        pose = (float(x), float(y), float(heading))
+        if not all(np.isfinite(pose)):
+            raise ValueError(f"pose={pose!r} is not allowed: expected finite floats")
+        K.place_vehicle(i, self.lanes, self.cfg, *pose)
         K.start_episode(i, *self._arrays())
 
     # ---- stepping ----
@@ -154,12 +180,14 @@ class RovBatch:
 
     def state(self, i: int) -> np.ndarray:
         """Vehicle i's 18-dim Euler-angle state (``rov_envs.physics.dynamics`` layout)."""
+        i = self._index(i)
         out = np.zeros(STATE_DIM)
         load_euler_state(self.lanes, i, out)
         return out
 
     def vehicle_obstacles(self, i: int) -> np.ndarray:
         """Vehicle i's current obstacles (M_i, 3) (a copy)."""
+        i = self._index(i)
         return self.obstacles[i, : self.n_obs[i]].copy()
 
     def observations(self) -> dict[str, np.ndarray]:

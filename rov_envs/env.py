@@ -103,12 +103,9 @@ class RovEnv(gym.Env):
         """
         if not self._started:
             raise RuntimeError("call reset() before set_pose()")
-        vals = (float(x), float(y), float(heading))
-        if not all(np.isfinite(vals)):
-            raise ValueError(f"pose={vals!r} is not allowed: expected finite floats")
-        self._batch.set_pose(0, *vals)
+        self._batch.set_pose(0, x, y, heading)
         if self.render_mode:
-            self._trajectory.append((vals[0], vals[1]))
+            self._trajectory.append((float(x), float(y)))
         return self._obs()
 
     # ---- gymnasium API ----

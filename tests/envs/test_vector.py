@@ -149,3 +149,21 @@ def test_vector_bad_actions() -> None:
         venv.step(np.array([0]))
     with pytest.raises(ValueError, match="num_envs"):
         RovVectorEnv(0, "PlanningStraight")
+
+
+def test_engine_refuses_bad_vehicle_indices() -> None:
+    """The kernels do not check indices, so the engine must (no silent memory writes)."""
+    from rov_envs.engine import RovBatch
+
+    batch = RovBatch(3, "PlanningStraight")
+    for bad in (3, -1, 1.0, True):
+        with pytest.raises(ValueError, match="vehicle index"):
+            batch.reset_index(bad)
+    with pytest.raises(ValueError, match="vehicle index"):
+        batch.set_pose(7, 0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="pose"):
+        batch.set_pose(0, float("nan"), 0.0, 0.0)
+    with pytest.raises(ValueError, match="seeds"):
+        batch.reset_all([0, 1])
+    with pytest.raises(ValueError, match="together with config"):
+        RovBatch(2, config=batch.config, sonar_noise=1.0)
