@@ -377,7 +377,12 @@ def step_batch_parallel(
     mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
     sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
 ):  # fmt: skip
-    """``step_batch`` with the blocks spread over numba's threads (the same numbers)."""
+    """``step_batch`` with the blocks spread over numba's threads (the same numbers).
+
+    A function of its own rather than ``step_batch``'s body compiled twice: numba's cache keys
+    compiled code by the Python function, so one function compiled with and without
+    ``parallel=True`` shares its cache entries, and the threaded variant silently ran serial.
+    """
     for b in prange((n + LANES - 1) // LANES):
         step_block(
             b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
