@@ -10,6 +10,7 @@ and ``sb3_pnn.evaluation`` steps it directly.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -25,7 +26,9 @@ from rov_envs.random_stream import stream_seed
 from rov_envs.rewards import END_COLLISION
 from rov_envs.spaces import make_spaces
 
-#: Vehicles from which ``step`` spreads the blocks over numba's threads (same numbers either way).
+#: Vehicles from which ``step`` and ``reset_all`` use numba's threads (same numbers either way).
+#: Below it no thread pool is started at all, so small batches stay safe to use in forked
+#: processes (GNU OpenMP) and from several Python threads (numba's workqueue layer).
 PARALLEL_MIN_ENVS = 64
 
 K.check_compiled_params()
@@ -80,7 +83,9 @@ class RovBatch:
         self.seeded = np.zeros(n, dtype=np.bool_)
         self._no_int = np.zeros(n, dtype=np.int64)
         self._no_cont = np.zeros((n, 2))
-        self._kernel = K.step_batch_parallel if n >= PARALLEL_MIN_ENVS else K.step_batch
+        threads = n >= PARALLEL_MIN_ENVS
+        self._kernel = K.step_batch_parallel if threads else K.step_batch
+        self._reset_kernel = K.reset_all_parallel if threads else K.reset_all
         #: the arrays ``kernel.step_batch`` takes after (mode, n, actions, cont, continuous)
         self.step_arrays = (
             self.table, self.cfg, self.lanes, self.obstacles, self.n_obs, self.rng,
@@ -130,14 +135,20 @@ class RovBatch:
         for i, s in enumerate(seeds):
             if s is not None or not self.seeded[i]:
                 self.seed_stream(i, seeding.np_random(s)[0])
-        K.reset_all(self.num_envs, *self._arrays())
+        self._reset_kernel(self.num_envs, *self._arrays())
 
     def set_pose(self, i: int, x: float, y: float, heading: float) -> None:
         """Put vehicle i at rest at (x, y) with ``heading`` (rad), clear its counters, observe."""
         i = self._index(i)
-        pose = (float(x), float(y), float(heading))
-        if not all(np.isfinite(pose)):
-            raise ValueError(f"pose={pose!r} is not allowed: expected finite floats")
+        try:
+            pose = (float(x), float(y), float(heading))
+        except (TypeError, ValueError):
+            pose = (math.nan,)  # refused below
+        if not all(map(math.isfinite, pose)):
+            raise ValueError(
+                f"pose=({x!r}, {y!r}, {heading!r}) is not allowed: expected three finite floats "
+                "(x, y in m, heading in rad)"
+            )
         K.place_vehicle(i, self.lanes, self.cfg, *pose)
         K.start_episode(i, *self._arrays())
 

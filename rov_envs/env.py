@@ -16,6 +16,29 @@ from rov_envs.spaces import make_spaces
 __all__ = ["RovEnv", "make_spaces"]
 
 
+def _discrete_action(action: Any) -> int:
+    """A Table 1 row index from an int, a numpy integer or a one-element integer array."""
+    if isinstance(action, (int, np.integer)):  # the usual case, kept fast
+        if 0 <= action < 5:
+            return int(action)
+    else:
+        a = np.asarray(action)
+        if a.size == 1 and a.dtype.kind in "iu" and 0 <= a.reshape(()) < 5:
+            return int(a.reshape(()))
+    raise ValueError(f"action={action!r} is not allowed: expected an int in [0, 4]")
+
+
+def _continuous_action(action: Any) -> np.ndarray:
+    """(surge, yaw) as two finite floats."""
+    try:
+        a = np.asarray(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        a = np.full(3, np.nan)  # refused below
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"action={action!r} is not allowed: expected two finite floats")
+    return a
+
+
 class RovEnv(gym.Env):
     """BlueROV2 path following with local path planning (Pan et al. 2025, section 4.2).
 
@@ -150,16 +173,9 @@ class RovEnv(gym.Env):
         if not self._started:
             raise RuntimeError("call reset() before step() (and after an episode ended)")
         if self._continuous:
-            surge, yaw = float(action[0]), float(action[1])
-            if not (np.isfinite(surge) and np.isfinite(yaw)):
-                raise ValueError(f"action={action!r} is not allowed: expected two finite floats")
-            self._cont[0, 0] = surge
-            self._cont[0, 1] = yaw
+            self._cont[0] = _continuous_action(action)
         else:
-            a = int(action)
-            if not 0 <= a < 5:
-                raise ValueError(f"action={action!r} is not allowed: expected an int in [0, 4]")
-            self._action[0] = a
+            self._action[0] = _discrete_action(action)
         b = self._batch
         K.step_batch(K.MODE_PLAIN, 1, self._action, self._cont, self._continuous, *b.step_arrays)
         o = b.out[:, 0]

@@ -32,6 +32,7 @@ from numba import njit, prange
 from rov_envs.layouts import draw_layout
 from rov_envs.physics.guidance import los_tuple
 from rov_envs.physics.integrator import (
+    DEFAULT_PARAMS,
     LANES,
     ROW_CMD,
     ROW_CURRENT,
@@ -43,7 +44,6 @@ from rov_envs.physics.integrator import (
     ROW_Y,
     ROWS,
     advance_block_default,
-    default_params_probe,
     lane_index,
 )
 from rov_envs.physics.params import P_SIZE, BlueROV2Params
@@ -129,14 +129,25 @@ F_SIZE = 4
 _MAX_SPEED = 8000.0
 
 
+@njit(cache=True, _nrt=False)
+def _compiled_params(out):
+    """Copy the default parameters compiled into this module's cached code into ``out``.
+
+    Defined here, not in ``integrator``: numba caches each module's code on its own, so only a
+    probe cached with the step kernels sees the constants they were compiled with.
+    """
+    for k in range(out.shape[0]):
+        out[k] = DEFAULT_PARAMS[k]
+
+
 def check_compiled_params() -> None:
-    """Refuse to run when numba's cache holds physics compiled with other default parameters.
+    """Refuse to run when numba's cache holds kernels compiled with other default parameters.
 
     The kernels have ``BlueROV2Params()`` compiled in (``integrator.advance_block_default``);
     numba's cache does not notice edits to ``rov_envs/physics/params.py``.
     """
     compiled = np.empty(P_SIZE)
-    default_params_probe(compiled)
+    _compiled_params(compiled)
     if not np.array_equal(compiled, BlueROV2Params().to_array()):
         raise RuntimeError(
             "rov_envs: numba's cache holds physics compiled with other BlueROV2Params defaults "
@@ -255,9 +266,16 @@ def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs
     start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
 
 
-@njit(parallel=True, cache=True, _nrt=False)
+@njit(cache=True, _nrt=False)
 def reset_all(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
     """``reset_vehicle`` for vehicles 0..n-1."""
+    for i in range(n):
+        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+
+
+@njit(parallel=True, cache=True, _nrt=False)
+def reset_all_parallel(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+    """``reset_all`` on numba's threads (a function of its own: see ``step_batch_parallel``)."""
     for i in prange(n):
         reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
 

@@ -26,14 +26,21 @@ __all__ = ["RovVectorEnv"]
 
 
 def _seeds(seed: int | list[int | None] | None, n: int) -> list[int | None]:
+    allowed = f"None, an int >= 0 (vehicle i gets seed + i), or a list of {n} such ints or None"
     if seed is None:
         return [None] * n
     if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-        return [int(seed) + i for i in range(n)]
-    seeds = list(seed)
-    if len(seeds) != n:
-        raise ValueError(f"seed={seed!r} is not allowed: expected an int, None or {n} seeds")
-    return seeds
+        seeds: list = [int(seed) + i for i in range(n)]
+    elif isinstance(seed, (list, tuple, np.ndarray)):
+        seeds = list(seed)
+    else:
+        raise ValueError(f"seed={seed!r} is not allowed: expected {allowed}")
+    if len(seeds) != n or not all(
+        s is None or (isinstance(s, (int, np.integer)) and not isinstance(s, bool) and s >= 0)
+        for s in seeds
+    ):
+        raise ValueError(f"seed={seed!r} is not allowed: expected {allowed}")
+    return [None if s is None else int(s) for s in seeds]
 
 
 class RovVectorEnv(VectorEnv):

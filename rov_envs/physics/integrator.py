@@ -36,8 +36,9 @@ which the environments run, has ``BlueROV2Params()`` compiled in as constants, s
 zeros of that set (M^-1 and the allocation matrix are sparse, r_g and r_b lie on the z axis)
 fold away; to let them fold, LLVM may assume no NaN or infinite operands and ignore the sign of
 zero in that variant (finite results are the same, up to the sign of a zero) - about 30 % less
-time per vehicle. numba's cache does not notice edits to ``params``: ``default_params_probe``
-returns the compiled-in values, and :mod:`rov_envs.kernel` refuses to run on stale ones.
+time per vehicle. numba's cache does not notice edits to ``params``: :mod:`rov_envs.kernel`, whose
+cached step code embeds these constants, compares them with ``BlueROV2Params()`` at import and
+refuses to run on stale ones.
 """
 
 from __future__ import annotations
@@ -69,7 +70,7 @@ __all__ = [
     "lane_index",
     "advance_block",
     "advance_block_default",
-    "default_params_probe",
+    "DEFAULT_PARAMS",
     "advance_blocks",
     "advance_blocks_parallel",
     "store_euler_state",
@@ -103,7 +104,7 @@ _JIT = {"cache": True, "error_model": "numpy", "_nrt": False}
 # no contraction, no approximate functions: finite results are unchanged up to the sign of 0)
 _JIT_DEFAULT = {**_JIT, "fastmath": {"nnan", "ninf", "nsz"}}
 #: ``BlueROV2Params().to_array()``, frozen into ``advance_block_default`` at compile time
-_P_DEFAULT = BlueROV2Params().to_array()
+DEFAULT_PARAMS = BlueROV2Params().to_array()
 
 
 def n_blocks(n_vehicles: int) -> int:
@@ -191,7 +192,7 @@ def _substep(buf, base, P, fa, fm, fb, h):
 def _substep_default(buf, base, fa, fm, fb, h):
     """``_substep`` with the default parameters compiled in as constants."""
     for lane in range(_UL):
-        _rk4_lane(buf, base + lane, _P_DEFAULT, fa, fm, fb, h)
+        _rk4_lane(buf, base + lane, DEFAULT_PARAMS, fa, fm, fb, h)
 
 
 @njit(**_JIT)
@@ -225,7 +226,7 @@ def advance_block_default(buf, block, dt, n_substeps):
     """``advance_block`` with ``BlueROV2Params()`` compiled in (what the environments run)."""
     base = np.uint64(block) * _UBLOCK
     h = dt / n_substeps
-    decay_half = math.exp(-0.5 * h * _P_DEFAULT[P_INV_TAU])
+    decay_half = math.exp(-0.5 * h * DEFAULT_PARAMS[P_INV_TAU])
     f = 1.0
     for _ in range(n_substeps):
         fm = f * decay_half
@@ -233,13 +234,6 @@ def advance_block_default(buf, block, dt, n_substeps):
         _substep_default(buf, base, f, fm, fb, h)
         f = fb
     _settle_thrusters(buf, base, f)
-
-
-@njit(cache=True, _nrt=False)
-def default_params_probe(out):
-    """Copy the parameter values compiled into ``advance_block_default`` into ``out``."""
-    for k in range(out.shape[0]):
-        out[k] = _P_DEFAULT[k]
 
 
 @njit(**_JIT)

@@ -62,12 +62,30 @@ def test_bad_argument_refused_by_batched_env() -> None:
 def test_bad_actions_refused() -> None:
     env = gym.make("rov_envs/PathFollowingStraight-v0").unwrapped
     env.reset(seed=0)
-    with pytest.raises(ValueError, match="action"):
-        env.step(5)
+    for bad in (5, -1, 2.7, None, "2", np.array([1, 2])):
+        with pytest.raises(ValueError, match="action"):
+            env.step(bad)
+    for good in (2, np.int64(2), np.array(2), np.array([2])):
+        env.step(good)
     cenv = gym.make("rov_envs/PathFollowingStraight-v0", continuous=True).unwrapped
     cenv.reset(seed=0)
-    with pytest.raises(ValueError, match="action"):
-        cenv.step(np.array([np.nan, 0.0]))
+    for bad in (np.array([np.nan, 0.0]), [0.1, 0.2, 0.3], "fast", 1.0):
+        with pytest.raises(ValueError, match="action"):
+            cenv.step(bad)
+
+
+def test_bad_vector_seeds_and_poses_refused() -> None:
+    venv = gym.make_vec(
+        "rov_envs/PlanningStraight-v0", num_envs=2, vectorization_mode="vector_entry_point"
+    )
+    for bad in (1.5, -1, [0, "a"], [0], "seed"):
+        with pytest.raises(ValueError, match="seed"):
+            venv.reset(seed=bad)
+    venv.reset(seed=[3, None])
+    env = gym.make("rov_envs/PlanningStraight-v0").unwrapped
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="pose"):
+        env.set_pose("a", 0.0, 0.0)
 
 
 def test_custom_obstacles_and_path_parameters() -> None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import multiprocessing
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -149,6 +151,30 @@ def test_vector_bad_actions() -> None:
         venv.step(np.array([0]))
     with pytest.raises(ValueError, match="num_envs"):
         RovVectorEnv(0, "PlanningStraight")
+
+
+def _child_steps_small_batch(queue) -> None:
+    venv = RovVectorEnv(4, "PlanningStraightDense")
+    venv.reset(seed=1)
+    queue.put(venv.step(np.full(4, 2))[1].tolist())
+
+
+@pytest.mark.skipif(
+    "fork" not in multiprocessing.get_all_start_methods(), reason="needs the fork start method"
+)
+def test_small_batches_work_in_forked_processes() -> None:
+    """Below PARALLEL_MIN_ENVS no numba thread pool is used (GNU OpenMP aborts a forked child
+    that touches a pool its parent had started)."""
+    venv = RovVectorEnv(4, "PlanningStraight")
+    venv.reset(seed=0)
+    venv.step(np.full(4, 2))
+    ctx = multiprocessing.get_context("fork")
+    queue = ctx.Queue()
+    child = ctx.Process(target=_child_steps_small_batch, args=(queue,))
+    child.start()
+    child.join(120)
+    assert child.exitcode == 0
+    assert queue.get(timeout=5) == pytest.approx([1.0] * 4)
 
 
 def test_engine_refuses_bad_vehicle_indices() -> None:
