@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import gymnasium as gym
@@ -28,15 +29,16 @@ def _discrete_action(action: Any) -> int:
     raise ValueError(f"action={action!r} is not allowed: expected an int in [0, 4]")
 
 
-def _continuous_action(action: Any) -> np.ndarray:
-    """(surge, yaw) as two finite floats."""
+def _continuous_action(action: Any) -> tuple[float, float]:
+    """(surge, yaw) as two finite floats, from any sequence of exactly two numbers."""
     try:
-        a = np.asarray(action, dtype=np.float64)
+        if len(action) == 2:
+            surge, yaw = float(action[0]), float(action[1])
+            if math.isfinite(surge) and math.isfinite(yaw):
+                return surge, yaw
     except (TypeError, ValueError):
-        a = np.full(3, np.nan)  # refused below
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ValueError(f"action={action!r} is not allowed: expected two finite floats")
-    return a
+        pass  # refused below
+    raise ValueError(f"action={action!r} is not allowed: expected two finite floats")
 
 
 class RovEnv(gym.Env):
