@@ -69,7 +69,7 @@ def simd_report() -> str:
     flags = {k: v for k, v in I._JIT_DEFAULT.items() if k != "cache"}
     fresh = njit(**flags)(cached.py_func)  # cached code cannot be inspected: compile anew
     f8 = types.float64
-    fresh.compile((types.float64[::1], types.uint64, f8, f8, f8, f8))
+    fresh.compile((types.float64[::1], types.uint64, types.float64[::1], f8, f8, f8, f8))
     asm = fresh.inspect_asm(fresh.signatures[0])
     ymm = len(re.findall(r"\tv\w+pd\t.*%ymm", asm))
     zmm = len(re.findall(r"\tv\w+pd\t.*%zmm", asm))

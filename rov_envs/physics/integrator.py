@@ -189,8 +189,9 @@ def _substep(buf, base, P, fa, fm, fb, h):
 
 
 @njit(**_JIT_DEFAULT)
-def _substep_default(buf, base, fa, fm, fb, h):
-    """``_substep`` with the default parameters compiled in as constants."""
+def _substep_default(buf, base, P, fa, fm, fb, h):
+    """``_substep`` with the default parameters compiled in as constants (``P`` is not read:
+    the signature is ``_substep``'s, so that ``_period`` runs either)."""
     for lane in range(_UL):
         _rk4_lane(buf, base + lane, DEFAULT_PARAMS, fa, fm, fb, h)
 
@@ -206,9 +207,9 @@ def _settle_thrusters(buf, base, f):
             buf[row_n + lane] = c + (buf[row_n + lane] - c) * f
 
 
-@njit(**_JIT)
-def advance_block(buf, block, P, dt, n_substeps):
-    """Advance the LANES vehicles of ``block`` by one control period dt (s), in place."""
+@njit(cache=True, inline="always")
+def _period(buf, block, P, dt, n_substeps, substep):
+    """One control period dt (s) of ``block``: ``substep`` n_substeps times, then the lag."""
     base = np.uint64(block) * _UBLOCK
     h = dt / n_substeps
     decay_half = math.exp(-0.5 * h * P[P_INV_TAU])
@@ -216,24 +217,21 @@ def advance_block(buf, block, P, dt, n_substeps):
     for _ in range(n_substeps):
         fm = f * decay_half
         fb = fm * decay_half
-        _substep(buf, base, P, f, fm, fb, h)
+        substep(buf, base, P, f, fm, fb, h)
         f = fb
     _settle_thrusters(buf, base, f)
 
 
 @njit(**_JIT)
+def advance_block(buf, block, P, dt, n_substeps):
+    """Advance the LANES vehicles of ``block`` by one control period dt (s), in place."""
+    _period(buf, block, P, dt, n_substeps, _substep)
+
+
+@njit(**_JIT)
 def advance_block_default(buf, block, dt, n_substeps):
     """``advance_block`` with ``BlueROV2Params()`` compiled in (what the environments run)."""
-    base = np.uint64(block) * _UBLOCK
-    h = dt / n_substeps
-    decay_half = math.exp(-0.5 * h * DEFAULT_PARAMS[P_INV_TAU])
-    f = 1.0
-    for _ in range(n_substeps):
-        fm = f * decay_half
-        fb = fm * decay_half
-        _substep_default(buf, base, f, fm, fb, h)
-        f = fb
-    _settle_thrusters(buf, base, f)
+    _period(buf, block, DEFAULT_PARAMS, dt, n_substeps, _substep_default)
 
 
 @njit(**_JIT)
