@@ -456,6 +456,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         reset_num_timesteps: bool = True,
         progress_bar: bool = False,
     ) -> SelfDiscreteSAC:
+        _check_budget(total_timesteps, "total_timesteps")
         return super().learn(
             total_timesteps=total_timesteps,
             callback=callback,
@@ -606,6 +607,18 @@ def _parse_ent_coef(ent_coef: str | float) -> tuple[bool, float]:
         if ent_coef >= 0 and math.isfinite(ent_coef):
             return False, float(ent_coef)
     raise ValueError(f"ent_coef must be {expected}, got {ent_coef!r}")
+
+
+def _check_budget(value: Any, name: str) -> int:
+    """A training or watching budget in environment steps: an integer >= 1, else ValueError.
+
+    ``learn(0)`` or ``learn(-100)`` would otherwise return at once without a word."""
+    number = isinstance(value, (int, np.integer, float, np.floating)) and not isinstance(
+        value, (bool, np.bool_)
+    )
+    if not (number and math.isfinite(value) and value >= 1 and value == int(value)):
+        raise ValueError(f"{name} must be a positive number of environment steps, got {value!r}")
+    return int(value)
 
 
 def _check_action_space(action_space: spaces.Space) -> None:

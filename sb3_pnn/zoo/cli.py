@@ -70,7 +70,17 @@ def _common_parser() -> argparse.ArgumentParser:
     parser.add_argument("--env")
     parser.add_argument("-conf", "--conf-file")
     parser.add_argument("--gym-packages", nargs="+", default=[])
+    parser.add_argument("-n", "--n-timesteps", type=int, default=None)
     return parser
+
+
+def check_steps(n_timesteps: int | None, default: str) -> None:
+    """Refuse ``-n/--n-timesteps`` below 1 (the zoo would run ``default`` or nothing, silently)."""
+    if n_timesteps is not None and n_timesteps < 1:
+        raise ZooUsageError(
+            f"-n/--n-timesteps {n_timesteps}: expected a positive number of environment steps "
+            f"(leave -n out for {default})"
+        )
 
 
 def check_algo_and_env(algo: str | None, env_id: str | None, gym_packages: list[str]) -> None:
@@ -143,6 +153,7 @@ def train_main(argv: list[str] | None = None) -> None:
     if not ("-h" in rest or "--help" in rest):
         common, _ = _common_parser().parse_known_args(rest)
         check_algo_and_env(common.algo, common.env, common.gym_packages)
+        check_steps(common.n_timesteps, "the config's n_timesteps")
         if common.conf_file is None and common.algo in OUR_ALGOS:
             rest += ["--conf-file", str(default_config_path(common.algo))]
     options = ZooOptions(
@@ -217,6 +228,7 @@ def enjoy_main(argv: list[str] | None = None) -> None:
         return
     args, rest = parser.parse_known_args(argv)
     check_algo_and_env(args.algo, args.env, args.gym_packages)
+    check_steps(args.n_timesteps, f"{parser.get_default('n_timesteps')} steps")
     if args.record is None and not args.no_render:
         modes = gym.make(args.env).metadata.get("render_modes", [])
         if "human" not in modes:

@@ -85,8 +85,6 @@ def record(args: argparse.Namespace) -> list[np.ndarray]:
 
     if args.fps <= 0:
         raise ZooUsageError(f"--fps must be positive, got {args.fps}")
-    if args.n_timesteps <= 0:
-        raise ZooUsageError(f"-n/--n-timesteps must be positive, got {args.n_timesteps}")
     model_path, log_path = find_model(args)
     set_random_seed(args.seed)
     stats_path = os.path.join(log_path, EnvironmentName(args.env))

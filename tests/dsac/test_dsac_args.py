@@ -75,3 +75,11 @@ def test_policy_refuses_non_discrete_space_directly() -> None:
     box = gym.spaces.Box(-1, 1, (2,))
     with pytest.raises(ValueError, match="Discrete"):
         DiscreteSACPolicy(box, box, lambda _: 1e-3)
+
+
+@pytest.mark.parametrize("steps", [0, -100, 0.5, float("nan"), "100", True])
+def test_learn_refuses_a_budget_that_would_do_nothing(steps) -> None:
+    model = DiscreteSAC("MlpPolicy", "CartPole-v1", policy_kwargs=dict(net_arch=[8]))
+    with pytest.raises(ValueError, match="total_timesteps must be a positive number"):
+        model.learn(steps)
+    assert model.num_timesteps == 0

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from zoo_helpers import PLAN_ENV, run_cli
+from zoo_helpers import PF_ENV, PLAN_ENV, run_cli
 
 from sb3_pnn.zoo.cli import ENJOY_PROG, TRAIN_PROG, enjoy_main, train_main
 from sb3_pnn.zoo.errors import USAGE_EXIT_CODE
@@ -162,6 +162,21 @@ def test_unknown_hyperparameter_from_the_command_line(capsys, in_tmp) -> None:
         ],
     )
     assert "unknown hyperparameter 'lerning_rate'" in line and "with -params" in line
+
+
+@pytest.mark.parametrize("steps", ["0", "-5"])
+def test_train_refuses_a_non_positive_budget(capsys, in_tmp: Path, steps: str) -> None:
+    conf = in_tmp / "small.yml"
+    conf.write_text(DSAC_ENTRY)  # without the check, a 100-step run would start and succeed
+    line = train_fails(capsys, ["--algo", "dsac", "--env", PF_ENV, "-n", steps, "-conf", str(conf)])
+    assert f"-n/--n-timesteps {steps}: expected a positive number of environment steps" in line
+    assert "leave -n out for the config's n_timesteps" in line
+
+
+def test_enjoy_refuses_a_non_positive_budget(capsys, in_tmp) -> None:
+    argv = ["--algo", "dsac", "--env", PF_ENV, "--no-render", "-n", "-3"]
+    line = fails(capsys, enjoy_main, ENJOY_PROG, argv)
+    assert "-n/--n-timesteps -3: expected a positive number of environment steps" in line
 
 
 def test_enjoy_without_a_window(capsys, in_tmp) -> None:
