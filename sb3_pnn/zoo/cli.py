@@ -238,11 +238,12 @@ def enjoy_main(argv: list[str] | None = None) -> None:
             )
     from sb3_pnn.zoo.video import find_model
 
-    find_model(args)  # a clear error when there is nothing to load
+    find_model(args)  # a clear error when there is nothing to load; sets args.exp_id
     if args.record is None:
         import rl_zoo3.enjoy
 
-        zoo_argv = _without_option(argv, "--fps")
+        zoo_argv = _without_option(_without_option(argv, "--fps"), "--exp-id")
+        zoo_argv += ["--exp-id", str(args.exp_id)]  # the run find_model chose
         if not any(a in ("-f", "--folder") for a in argv):
             zoo_argv += ["--folder", args.folder]  # not the zoo's hub-downloading default
         with _argv([ENJOY_PROG, *zoo_argv]):

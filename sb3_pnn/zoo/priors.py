@@ -5,9 +5,9 @@ A configuration entry lists its priors under ``priors:`` in the order the policy
 either
 
 * a mapping ``{algo: dsac, env: rov_envs/PathFollowingStraight-v0}``, optionally with
-  ``exp_id: N`` (default 0 = the latest run) and ``model: final | best``: a model trained with
-  ``python -m sb3_pnn.train``, looked up in the zoo's layout under the current ``--log-folder``
-  (``<log-folder>/<algo>/<env>_<N>/<env>.zip``, or ``best_model.zip``); or
+  ``exp_id: N`` (default 0 = the latest run that holds the model) and ``model: final | best``: a
+  model trained with ``python -m sb3_pnn.train``, looked up in the zoo's layout under the current
+  ``--log-folder`` (``<log-folder>/<algo>/<env>_<N>/<env>.zip``, or ``best_model.zip``); or
 * a path to an SB3 ``.zip`` (``~`` and ``$VARS`` expanded, relative paths from the current
   directory).
 
@@ -24,9 +24,9 @@ from pathlib import Path
 from typing import Any
 
 from huggingface_sb3 import EnvironmentName
-from rl_zoo3.utils import get_latest_run_id
 
 from sb3_pnn.zoo.errors import ZooUsageError
+from sb3_pnn.zoo.runs import latest_run_with, runs_summary
 
 # What each prior is for, per algo, in the order the policy takes them (for messages).
 PRIOR_ROLES: dict[str, tuple[str, ...]] = {
@@ -39,7 +39,8 @@ MODEL_KINDS = ("final", "best")
 
 @dataclass(frozen=True)
 class PriorRef:
-    """A prior trained with ``train``: ``algo`` on ``env`` (run ``exp_id``, 0 = latest)."""
+    """A prior trained with ``train``: ``algo`` on ``env`` (run ``exp_id``, 0 = the latest run
+    that holds the model)."""
 
     algo: str
     env: str
@@ -50,16 +51,24 @@ class PriorRef:
         return f"python -m sb3_pnn.train --algo {self.algo} --env {self.env} -f {log_folder}"
 
     def resolve(self, log_folder: str) -> Path:
+        """The checkpoint of run ``exp_id``, or of the latest run that holds one (exp_id 0)."""
         env_name = EnvironmentName(self.env)
         algo_folder = os.path.join(log_folder, self.algo)
-        exp_id = self.exp_id or get_latest_run_id(algo_folder, env_name)
         file_name = f"{env_name}.zip" if self.model == "final" else "best_model.zip"
+
+        def has_model(run: Path) -> bool:
+            return (run / file_name).is_file()
+
+        exp_id = self.exp_id or latest_run_with(algo_folder, env_name, has_model)
+        runs = runs_summary(algo_folder, env_name, has_model)
         if exp_id <= 0:
             expected = os.path.join(algo_folder, f"{env_name}_<N>", file_name)
-            raise FileNotFoundError(f"no run of {self.algo} on {self.env} (expected {expected})")
+            raise FileNotFoundError(
+                f"no run of {self.algo} on {self.env} holds a model (expected {expected}; {runs})"
+            )
         path = Path(algo_folder) / f"{env_name}_{exp_id}" / file_name
         if not path.is_file():
-            raise FileNotFoundError(f"{path} does not exist")
+            raise FileNotFoundError(f"{path} does not exist ({runs}; set exp_id: N)")
         return path
 
 
@@ -113,7 +122,8 @@ def resolve_priors(
                 raise ZooUsageError(
                     f"missing {role} prior for {algo} on {env_id}: {error}; "
                     f"make it with: {ref.train_command(log_folder)} "
-                    f"(or pass --priors PATH.zip)"
+                    f"(or pass the checkpoints with --priors, in the order "
+                    f"{', '.join(roles) or 'of the config'})"
                 ) from None
         else:
             path = ref

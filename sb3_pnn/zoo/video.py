@@ -18,13 +18,46 @@ import yaml
 from huggingface_sb3 import EnvironmentName
 
 from sb3_pnn.zoo.errors import ZooUsageError
+from sb3_pnn.zoo.runs import HasModel, latest_run_with, runs_summary
+
+
+def _model_test(args: argparse.Namespace) -> tuple[HasModel, str]:
+    """(whether a run folder holds the model ``enjoy`` is asked for, that model's file name)."""
+    if args.load_last_checkpoint:
+        pattern = "rl_model_*_steps.zip"
+        return (lambda run: any(run.glob(pattern))), pattern
+    if args.load_best:
+        name = "best_model.zip"
+    elif args.load_checkpoint is not None:
+        name = f"rl_model_{args.load_checkpoint}_steps.zip"
+    else:
+        name = f"{EnvironmentName(args.env)}.zip"
+    return (lambda run: (run / name).is_file()), name
 
 
 def find_model(args: argparse.Namespace) -> tuple[str, str]:
-    """(model_path, log_path) as rl_zoo3.enjoy finds them; a clear error when absent."""
+    """(model_path, log_path) as rl_zoo3.enjoy finds them; a clear error when absent.
+
+    With ``--exp-id 0`` (the default) the run is the latest one that holds the model: rl_zoo3
+    would take the largest run number, also a folder left empty by ``-optimize`` or a failed run.
+    ``args.exp_id`` is set to that run, so that rl_zoo3.enjoy loads the same model.
+    """
     from rl_zoo3.utils import get_model_path
 
     env_name = EnvironmentName(args.env)
+    algo_folder = os.path.join(args.folder, args.algo)
+    has_model, model_name = _model_test(args)
+    train = (
+        f"train one with: python -m sb3_pnn.train --algo {args.algo} --env {args.env} "
+        f"-f {args.folder}"
+    )
+    missing = f"no trained {args.algo} model for {args.env} in {args.folder!r}"
+    if args.exp_id == 0:
+        args.exp_id = latest_run_with(algo_folder, env_name, has_model)
+        if args.exp_id == 0:
+            expected = os.path.join(algo_folder, f"{env_name}_<N>", model_name)
+            runs = runs_summary(algo_folder, env_name, has_model)
+            raise ZooUsageError(f"{missing} (expected {expected}; {runs}); {train}")
     try:
         _, model_path, log_path = get_model_path(
             args.exp_id,
@@ -36,10 +69,10 @@ def find_model(args: argparse.Namespace) -> tuple[str, str]:
             args.load_last_checkpoint,
         )
     except (AssertionError, ValueError) as error:
+        runs = runs_summary(algo_folder, env_name, has_model)
         raise ZooUsageError(
-            f"no trained {args.algo} model for {args.env} in {args.folder!r} ({error}); "
-            f"train one with: python -m sb3_pnn.train --algo {args.algo} --env {args.env} "
-            f"-f {args.folder}"
+            f"{missing} ({error}; {runs}: pick one with --exp-id N, or leave --exp-id out for "
+            f"the latest); {train}"
         ) from None
     return model_path, log_path
 
