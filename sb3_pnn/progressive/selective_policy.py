@@ -46,6 +46,21 @@ from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
 PRIOR_NAMES = ("path_following", "obstacle_avoidance")
 
 
+def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
+    """Refuse priors given in the wrong order: the path-following column comes first and does not
+    observe the sonar, the obstacle-avoidance column second and does (their observation spaces
+    tell them apart; a gate fed the swapped columns would silently hand obstacles to the
+    path follower)."""
+    first, second = (sonar_key in spec.obs.keys for spec in specs)
+    if first and not second:
+        pf, oa = (spec.source or spec.algo for spec in specs[::-1])
+        raise ValueError(
+            f"SelectivePolicy priors are swapped: {oa!r} observes {sonar_key!r} (an "
+            f"obstacle-avoidance column) and {pf!r} does not (a path-following column); "
+            f"expected [path_following_zip, obstacle_avoidance_zip], i.e. [{pf!r}, {oa!r}]"
+        )
+
+
 class SelectivePolicy(ProgressivePolicy):
     """
     SPNN policy for DiscreteSAC (eq. 15): two frozen priors selected per sample + a new column.
@@ -136,6 +151,8 @@ class SelectivePolicy(ProgressivePolicy):
                 "SelectivePolicy takes exactly two priors, [path_following_zip, "
                 f"obstacle_avoidance_zip], got {len(specs)}"
             )
+        if self._checkpoints is not None:  # files given now (a saved model was checked then)
+            check_prior_order(specs, self.sonar_key)
 
     def _make_gate(self, features_dim: int) -> nn.Module | None:
         if self.gate == "learned":

@@ -126,6 +126,15 @@ def test_refuses_wrong_prior_count_and_missing_sonar(priors):
         _model(priors, gate="fuzzy")
 
 
+def test_refuses_swapped_priors_naming_which_file_is_which(priors):
+    with pytest.raises(ValueError) as info:
+        _model(priors, priors=[priors["oa_dsac"], priors["pf_dsac"]])
+    message = str(info.value)
+    assert "priors are swapped: 'oa_dsac.zip' observes 'sonar'" in message
+    assert "'pf_dsac.zip' does not (a path-following column)" in message
+    assert "expected [path_following_zip, obstacle_avoidance_zip], i.e. ['pf_dsac.zip'" in message
+
+
 class _Capture(KVWriter):
     def __init__(self):
         self.records: list[dict] = []

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from zoo_helpers import PF_ENV, PLAN_ENV, run_cli
+from zoo_helpers import OA_ENV, PF_ENV, PLAN_ENV, run_cli
 
 from sb3_pnn.zoo.cli import ENJOY_PROG, TRAIN_PROG, enjoy_main, train_main
 from sb3_pnn.zoo.errors import USAGE_EXIT_CODE
@@ -129,6 +129,21 @@ def test_wrong_number_of_priors(capsys, in_tmp) -> None:
     assert (
         "--priors got 1 path(s) but spnn" in line and "path-following, obstacle-avoidance" in line
     )
+
+
+def test_swapped_priors(capsys, in_tmp: Path) -> None:
+    import gymnasium as gym
+
+    import rov_envs  # noqa: F401 - registers the tasks
+    from sb3_pnn import DiscreteSAC
+
+    for name, env_id in (("pf", PF_ENV), ("oa", OA_ENV)):
+        model = DiscreteSAC("MultiInputPolicy", gym.make(env_id), policy_kwargs={"net_arch": [8]})
+        model.save(in_tmp / f"{name}.zip")
+    argv = ["--algo", "spnn", "--env", PLAN_ENV, "--priors", "oa.zip", "pf.zip", "-n", "10"]
+    line = train_fails(capsys, argv)
+    assert "priors are swapped: 'oa.zip' observes 'sonar'" in line
+    assert "i.e. ['pf.zip', 'oa.zip']" in line
 
 
 def test_bad_storage(capsys, in_tmp) -> None:
