@@ -9,8 +9,9 @@ Example::
 ``--model`` is a baseline name (``pid``, ``adaptive_pid``) or the path of a model zip saved by
 ``DiscreteSAC.save`` (progressive policies included). Prints a table of the statistics of
 :func:`sb3_pnn.evaluation.evaluate_policy_on_task`; ``--out`` also writes them as JSON. Bad input
-(unknown env id, missing model file, ``--episodes < 1``, ...) prints one line ``error: ...`` and
-exits with code 2.
+(unknown env id, missing model file, ``--episodes < 1``, a model trained on another observation,
+...) prints one line ``python -m sb3_pnn.evaluate: error: ...`` (with "did you mean" for a
+mistyped env id or baseline name) and exits with code 2.
 """
 
 from __future__ import annotations
@@ -25,6 +26,8 @@ from typing import Any
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.evaluation import DEFAULT_START_NOISE, evaluate_policy_on_task, resolve_env_id
 
+PROG = "python -m sb3_pnn.evaluate"
+
 
 class _UsageError(Exception):
     """Bad command-line input: reported as one line, exit code 2."""
@@ -32,7 +35,7 @@ class _UsageError(Exception):
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
-        prog="python -m sb3_pnn.evaluate",
+        prog=PROG,
         description="Evaluate a saved DiscreteSAC model or a PID baseline on an rov_envs task.",
     )
     p.add_argument(
@@ -65,9 +68,11 @@ def load_policy(model: str) -> tuple[Any, str]:
     if not path.is_file() and Path(model + ".zip").is_file():
         path = Path(model + ".zip")
     if not path.is_file():
+        from sb3_pnn.suggest import did_you_mean
+
         raise _UsageError(
-            f"--model {model!r}: no such file (expected a model zip or one of "
-            f"{', '.join(BASELINE_NAMES)})"
+            f"--model {model!r}: no such file; {did_you_mean(model, BASELINE_NAMES)}expected a "
+            f"model zip or one of {', '.join(BASELINE_NAMES)}"
         )
     from sb3_pnn.dsac import DiscreteSAC
 
@@ -109,7 +114,7 @@ def run(argv: Sequence[str] | None = None) -> int:
         except ValueError as exc:
             raise _UsageError(str(exc)) from exc
     except _UsageError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
     print(result.format_table())
     if args.out:

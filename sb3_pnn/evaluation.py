@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from gymnasium.spaces import Dict
 
 #: Default start-pose perturbation: (position std in m, heading std in rad).
 DEFAULT_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
@@ -214,9 +215,13 @@ def resolve_env_id(env_id: str) -> str:
     for cand in candidates:
         if cand in gym.registry:
             return cand
+    from sb3_pnn.suggest import did_you_mean
+
+    ours = list(rov_envs.ENV_IDS)
+    hint = did_you_mean(env_id, [*ours, *(i.split("/", 1)[1] for i in ours), *gym.registry])
     raise ValueError(
-        f"env_id={env_id!r} is not allowed: expected a registered env id, e.g. one of "
-        f"{list(rov_envs.ENV_IDS)}"
+        f"env_id={env_id!r} is not allowed: {hint}expected a registered env id, e.g. one of "
+        f"{', '.join(ours)}"
     )
 
 
@@ -227,6 +232,8 @@ class _Backend:
     n: int
     dt: float
     continuous: bool
+    observation_space: Any
+    action_space: Any
 
     def reset(self, i: int, seed: int) -> None: ...
     def step(self, actions: np.ndarray, active: np.ndarray) -> dict[str, np.ndarray]: ...
@@ -252,6 +259,8 @@ class _BatchBackend(_Backend):
         self.continuous = bool(self.batch.continuous)
         self.sonar_range = float(self.batch.config.sonar_range)
         self.config = self.batch.config
+        self.observation_space = self.batch.single_observation_space
+        self.action_space = self.batch.single_action_space
 
     def reset(self, i: int, seed: int) -> None:
         self.batch.reset_index(i, seed=seed)
@@ -303,6 +312,8 @@ class _SingleBackend(_Backend):
         from gymnasium import spaces
 
         self.continuous = isinstance(self.envs[0].action_space, spaces.Box)
+        self.observation_space = self.envs[0].observation_space
+        self.action_space = self.envs[0].action_space
         self._obs: list[dict[str, np.ndarray]] = [{} for _ in range(n)]
         self._info: list[dict[str, Any]] = [{} for _ in range(n)]
 
@@ -398,6 +409,29 @@ def _resolve_policy(policy: Any, env_config: Any, policy_name: str | None) -> tu
     return policy, policy_name or type(policy).__name__
 
 
+def _check_spaces(policy: Any, name: str, backend: _Backend, env_id: str) -> None:
+    """A model (anything with ``observation_space`` / ``action_space``) must have the env's
+    spaces: evaluated on another task it would fail deep inside ``predict`` (a KeyError for a
+    missing observation part)."""
+    for what in ("observation", "action"):
+        mine, theirs = getattr(policy, f"{what}_space", None), getattr(backend, f"{what}_space")
+        if mine is None or mine == theirs:
+            continue
+        hint = ""
+        if isinstance(mine, Dict) and isinstance(theirs, Dict):
+            lacks = [k for k in mine.spaces if k not in theirs.spaces]
+            extra = [k for k in theirs.spaces if k not in mine.spaces]
+            hint = "".join(
+                f"; {side}: {', '.join(map(repr, keys))}"
+                for side, keys in (("missing there", lacks), ("unknown to the policy", extra))
+                if keys
+            )
+        raise ValueError(
+            f"policy {name!r} was trained with the {what} space {mine}, but {env_id} has "
+            f"{theirs}{hint}. Evaluate it on a task with the same {what}s"
+        )
+
+
 def evaluate_policy_on_task(
     policy: Any,
     env_id: str,
@@ -469,6 +503,7 @@ def evaluate_policy_on_task(
     else:
         backend = _SingleBackend(env_id, n_envs, kwargs)
     policy, name = _resolve_policy(policy, getattr(backend, "config", None), policy_name)
+    _check_spaces(policy, name, backend, env_id)
     if hasattr(policy, "reset") and callable(policy.reset):
         policy.reset()
 

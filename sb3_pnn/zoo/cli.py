@@ -20,7 +20,6 @@ enjoy:
 from __future__ import annotations
 
 import argparse
-import difflib
 import importlib
 import sys
 from collections.abc import Iterator
@@ -28,6 +27,7 @@ from contextlib import contextmanager
 
 import gymnasium as gym
 
+from sb3_pnn.suggest import did_you_mean
 from sb3_pnn.zoo.errors import ZooUsageError
 
 TRAIN_PROG = "python -m sb3_pnn.train"
@@ -94,7 +94,10 @@ def check_algo_and_env(algo: str | None, env_id: str | None, gym_packages: list[
         raise ZooUsageError(f"--algo is required: one of {ours} (or an rl_zoo3 algo)")
     if algo not in rl_zoo3.ALGOS:
         others = ", ".join(a for a in rl_zoo3.ALGOS if a not in OUR_ALGOS)
-        raise ZooUsageError(f"unknown algo {algo!r}: expected one of {ours} (rl_zoo3's: {others})")
+        raise ZooUsageError(
+            f"unknown algo {algo!r}: {did_you_mean(algo, rl_zoo3.ALGOS)}expected one of {ours} "
+            f"(rl_zoo3's: {others})"
+        )
     for module in gym_packages:
         try:
             importlib.import_module(module)
@@ -105,8 +108,7 @@ def check_algo_and_env(algo: str | None, env_id: str | None, gym_packages: list[
     registered = list(gym.envs.registry.keys())
     if env_id not in gym.envs.registry:
         ours_envs = sorted(e for e in registered if e.startswith("rov_envs/"))
-        close = difflib.get_close_matches(env_id, registered, n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
+        hint = did_you_mean(env_id, registered)
         raise ZooUsageError(
             f"unknown env id {env_id!r}: {hint}rov_envs tasks: {', '.join(ours_envs) or 'none'}"
         )

@@ -24,6 +24,7 @@ from typing import Any
 
 import yaml
 
+from sb3_pnn.suggest import did_you_mean
 from sb3_pnn.zoo.errors import ZooUsageError
 
 CONFIG_ENV_VAR = "SB3_PNN_ZOO_CONFIGS"
@@ -145,10 +146,14 @@ def validate_entry(
         if key in RESERVED_KEYS:
             raise ZooUsageError(f"{where}: {key!r} is set by the command line, not the config")
         if key not in ZOO_KEYS | OUR_KEYS and key not in accepted:
-            allowed = ", ".join(sorted((ZOO_KEYS | OUR_KEYS | accepted) - RESERVED_KEYS))
-            raise ZooUsageError(
-                f"{where}: unknown hyperparameter {key!r} for {algo}; expected one of {allowed}"
+            names = sorted(
+                name
+                for name in (ZOO_KEYS | OUR_KEYS | accepted) - RESERVED_KEYS
+                if not name.startswith("_")  # SB3's internal constructor arguments
             )
+            hint = did_you_mean(key, names)
+            expected = hint.rstrip() if hint else f"expected one of {', '.join(names)}"
+            raise ZooUsageError(f"{where}: unknown hyperparameter {key!r} for {algo}; {expected}")
     policy_kwargs = entry.get("policy_kwargs")
     if policy_kwargs is not None and not isinstance(policy_kwargs, (dict, str)):
         raise ZooUsageError(

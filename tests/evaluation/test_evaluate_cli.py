@@ -10,7 +10,7 @@ import gymnasium as gym
 import pytest
 
 import rov_envs  # noqa: F401
-from sb3_pnn.evaluate import run
+from sb3_pnn.evaluate import PROG, run
 
 
 def test_baseline_table_and_json(tmp_path, capsys):
@@ -49,7 +49,33 @@ def test_model_zip_is_loaded(tmp_path, capsys):
 def test_bad_input_gives_one_line_and_exit_code_2(argv, needle, capsys):
     assert run(argv) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and err.startswith("error:") and needle in err
+    assert len(err.splitlines()) == 1 and err.startswith(f"{PROG}: error:") and needle in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "suggestion"),
+    [
+        (["--model", "pid", "--env", "PlanningStrait-v0"], "did you mean 'PlanningStraight-v0'?"),
+        (["--model", "adaptive_pd", "--env", "PlanningSine-v0"], "did you mean 'adaptive_pid'?"),
+    ],
+)
+def test_mistyped_names_get_a_suggestion(argv, suggestion, capsys):
+    assert run(argv) == 2
+    assert suggestion in capsys.readouterr().err
+
+
+def test_model_of_another_task_is_refused_before_it_runs(tmp_path, capsys):
+    from sb3_pnn import DiscreteSAC
+
+    env = gym.make("rov_envs/PlanningStraight-v0")
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}).save(tmp_path / "spnn")
+    argv = ["--model", str(tmp_path / "spnn.zip"), "--env", "PathFollowingStraight-v0"]
+    assert run(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "policy 'spnn' was trained with the observation space Dict('path'" in err
+    assert "but rov_envs/PathFollowingStraight-v0 has Dict('path'" in err
+    assert "missing there: 'sonar'" in err
 
 
 def test_not_a_model_zip_is_a_usage_error(tmp_path, capsys):
@@ -66,4 +92,4 @@ def test_module_entry_point_exit_code():
         text=True,
         timeout=120,
     )
-    assert proc.returncode == 2 and proc.stderr.strip().startswith("error: --env")
+    assert proc.returncode == 2 and proc.stderr.strip().startswith(f"{PROG}: error: --env")

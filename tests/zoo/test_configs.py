@@ -85,7 +85,22 @@ def test_config_folder_override(tmp_path: Path, monkeypatch: pytest.MonkeyPatch)
 
 
 def test_unknown_key_lists_the_accepted_ones() -> None:
-    with pytest.raises(ZooUsageError, match="unknown hyperparameter 'lr'.*learning_rate"):
+    with pytest.raises(ZooUsageError, match="unknown hyperparameter 'lr'.*learning_rate") as info:
         validate_entry(
             {"n_timesteps": 1, "lr": 1}, name="x", path="f.yml", algo="dsac", algo_class=DiscreteSAC
         )
+    assert "_init_setup_model" not in str(info.value)  # SB3's internal argument
+
+
+def test_mistyped_key_gets_a_suggestion() -> None:
+    with pytest.raises(ZooUsageError) as info:
+        validate_entry(
+            {"n_timesteps": 1, "learning_rat": 0.1},
+            name="x",
+            path="f.yml",
+            algo="dsac",
+            algo_class=DiscreteSAC,
+        )
+    assert str(info.value).endswith(
+        "unknown hyperparameter 'learning_rat' for dsac; did you mean 'learning_rate'?"
+    )
