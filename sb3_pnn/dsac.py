@@ -290,6 +290,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
     def _setup_model(self) -> None:
         _check_action_space(self.action_space)
         super()._setup_model()
+        if not isinstance(self.policy, DiscreteSACPolicy):
+            raise NotADiscreteSACPolicyError(self.policy)
         portable_kwargs = getattr(self.policy, "portable_policy_kwargs", None)
         if callable(portable_kwargs):
             self.policy_kwargs = portable_kwargs()
@@ -525,15 +527,24 @@ class DiscreteSAC(OffPolicyAlgorithm):
             names are set as attributes before ``_setup_model``, as SB3 does
         """
         if trust_pickle:
-            return super().load(  # type: ignore[return-value]
-                path,
-                env=env,
-                device=device,
-                custom_objects=custom_objects,
-                print_system_info=print_system_info,
-                force_reset=force_reset,
-                **kwargs,
-            )
+            try:
+                return super().load(  # type: ignore[return-value]
+                    path,
+                    env=env,
+                    device=device,
+                    custom_objects=custom_objects,
+                    print_system_info=print_system_info,
+                    force_reset=force_reset,
+                    **kwargs,
+                )
+            except NotADiscreteSACPolicyError as error:
+                loader = f"stable_baselines3.{error.algo}.load" if error.algo else "its own class"
+                name = repr(str(path)) if isinstance(path, (str, pathlib.Path)) else "the file"
+                raise ValueError(
+                    f"{name} is not a DiscreteSAC checkpoint: its policy is {error.policy_name}; "
+                    f"load it with {loader}, or use it as a prior column "
+                    "(policy_kwargs=dict(priors=[path]), read without unpickling)"
+                ) from None
         return load_model(  # type: ignore[return-value]
             cls, path, env, device, custom_objects, print_system_info, kwargs
         )
@@ -587,6 +598,21 @@ class DiscreteSAC(OffPolicyAlgorithm):
         else:
             saved_pytorch_variables = ["ent_coef_tensor"]
         return state_dicts, saved_pytorch_variables
+
+
+class NotADiscreteSACPolicyError(TypeError):
+    """The policy of a DiscreteSAC is not a :class:`DiscreteSACPolicy` (no actor and critics);
+    e.g. an SB3 DQN checkpoint loaded with ``DiscreteSAC.load(..., trust_pickle=True)``."""
+
+    def __init__(self, policy: Any) -> None:
+        cls = type(policy)
+        self.policy_name = f"{cls.__module__}.{cls.__qualname__}"
+        parts = cls.__module__.split(".")  # stable_baselines3.dqn.policies -> DQN
+        sb3 = parts[0] == "stable_baselines3" and len(parts) > 2
+        self.algo = parts[1].upper() if sb3 else None
+        super().__init__(
+            f"DiscreteSAC needs a DiscreteSACPolicy (actor and critics), got {self.policy_name}"
+        )
 
 
 def _parse_ent_coef(ent_coef: str | float) -> tuple[bool, float]:

@@ -110,6 +110,27 @@ def test_plain_sb3_zip_is_refused_unless_trusted(tmp_path: Path) -> None:
     same_predictions(model, DiscreteSAC.load(tmp_path / "converted.zip"), OBS)
 
 
+def test_trusted_zip_of_another_algorithm_gives_a_clear_error(tmp_path: Path) -> None:
+    from stable_baselines3 import DQN
+
+    DQN("MlpPolicy", "CartPole-v1", policy_kwargs=dict(net_arch=[8])).save(tmp_path / "dqn.zip")
+    with pytest.raises(UnsafeCheckpointError, match="trust_pickle=True"):
+        DiscreteSAC.load(tmp_path / "dqn.zip")
+    with pytest.raises(ValueError) as info:
+        DiscreteSAC.load(tmp_path / "dqn.zip", device="cpu", trust_pickle=True)
+    message = str(info.value)
+    assert "dqn.zip' is not a DiscreteSAC checkpoint" in message
+    assert "its policy is stable_baselines3.dqn.policies.DQNPolicy" in message
+    assert "stable_baselines3.DQN.load" in message and "priors=[path]" in message
+
+
+def test_constructor_refuses_a_policy_without_actor_and_critics() -> None:
+    from stable_baselines3.dqn.policies import DQNPolicy
+
+    with pytest.raises(TypeError, match="needs a DiscreteSACPolicy.*DQNPolicy"):
+        DiscreteSAC(DQNPolicy, "CartPole-v1")
+
+
 def test_saved_zip_keeps_sb3_parts_and_a_json_member(tmp_path: Path) -> None:
     small_model().save(tmp_path / "m")  # SB3 naming: .zip added
     with zipfile.ZipFile(tmp_path / "m.zip") as archive:
