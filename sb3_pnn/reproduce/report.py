@@ -3,7 +3,10 @@
 Everything in the report is computed from the finished runs in the study folder; the paper's
 numbers are quoted constants
 (:data:`.figures.PAPER_SUCCESS`). Statements of agreement are derived from
-the measurements by :func:`claims`, never written by hand.
+the measurements by :func:`claims`, never written by hand, and only for a real budget: a
+smoke-sized one (``--quick``, :data:`SMOKE_BUDGETS`) is marked as a smoke test and gives no
+verdicts. The end reasons in the tables are explained from rov_envs' constants
+(:func:`end_reasons`).
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import time
 from typing import Any
 
 from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, pooled_success
-from sb3_pnn.reproduce.plan import AGENT_LABELS, AGENTS, EVAL_TASKS, StudyConfig
+from sb3_pnn.reproduce.plan import AGENT_LABELS, AGENTS, EVAL_TASKS, PLANNING_ENVS, StudyConfig
 from sb3_pnn.reproduce.results import StudyResults
 from sb3_pnn.reproduce.stats import (
     SMOOTH_WINDOW,
@@ -29,6 +32,8 @@ from sb3_pnn.reproduce.stats import (
 THRESHOLD_FRACTION = 0.8
 #: Training episodes at the end of each run whose end reasons the report counts.
 LAST_EPISODES = 20
+#: Budgets that only check that the study runs end to end: their report gives no verdicts.
+SMOKE_BUDGETS = frozenset({"quick", "tiny"})
 TASK_TITLES = {
     "original": "original planning task",
     "path_following": "path following, no obstacles",
@@ -75,6 +80,43 @@ def _pct(k: int, n: int) -> str:
 
     lo, hi = wilson_interval(k, n)
     return f"{100 * k / n:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] (n={n})"
+
+
+#: The episode ends of eq. 21 (a failure, with its terminal reward).
+FAILURE_ENDS = ("off_path", "heading", "collision")
+
+
+def end_reasons() -> dict[str, str]:
+    """What each ``end_reason`` of the env means, with the numbers read from rov_envs."""
+    from rov_envs.config import TARGET_RADIUS, TIME_LIMIT_FACTOR, U_REF
+    from rov_envs.rewards import COLLISION_DISTANCE, END_REASONS, HALF_PI
+    from rov_envs.tasks import TASKS
+
+    d_l = ", ".join(
+        f"{TASKS[env_id.split('/')[1].rsplit('-v', 1)[0]].d_L:g} m on the {path} path"
+        for path, env_id in PLANNING_ENVS.items()
+    )
+    text = {
+        "success": f"reached the target (within {TARGET_RADIUS:g} m of it, or past the path's end)",
+        "collision": f"came within {COLLISION_DISTANCE:g} m of an obstacle's surface",
+        "heading": "the heading deviation |a_c| from the path direction reached "
+        f"{math.degrees(HALF_PI):g} deg (it turned away from the path)",
+        "off_path": f"the distance from the path |g| reached d_L ({d_l})",
+        "time_limit": f"none of these within {TIME_LIMIT_FACTOR:g} x the path's arc length at "
+        f"{U_REF:g} m/s (truncated)",
+    }
+    return {reason: text[reason] for reason in END_REASONS if reason != "none"}
+
+
+def end_reasons_text() -> str:
+    """One line explaining the end reasons in the report's tables."""
+    from rov_envs.rewards import FAILURE_REWARD
+
+    return (
+        "how episodes end (the 'ended by' columns): "
+        + "; ".join(f"`{reason}`: {meaning}" for reason, meaning in end_reasons().items())
+        + f". {', '.join(FAILURE_ENDS)} are the failures of eq. 21 ({FAILURE_REWARD:+g})"
+    )
 
 
 def _kind(agent: str) -> str:
@@ -386,6 +428,16 @@ def write_report(
         "one set per seed" if config.prior_per_seed else "one set (seed 0) shared by all seeds"
     )
     seeds = sorted({r.spec.seed for r in results.runs.values() if r.spec.kind == "transfer"})
+    smoke = config.budget_name in SMOKE_BUDGETS
+    smoke_lines = [
+        f"**Smoke test** (budget `{config.budget_name}`: "
+        f"{max(budget.transfer_episodes.values())} training episodes per agent, "
+        f"{budget.eval_episodes} evaluation episodes per policy and task): it checks that the "
+        "study runs end to end. Numbers this small cannot confirm or refute the paper, so this "
+        "report gives no verdicts; the full study (`python -m sb3_pnn.reproduce`, without "
+        "`--quick`) does.",
+        "",
+    ]
     lines = [
         "# Reproduction of Pan et al. (2025), section 4.3 (Figures 10-20)",
         "",
@@ -395,6 +447,7 @@ def write_report(
         "BlueROV2, not the paper's Gazebo/UUV Simulator), so absolute returns differ from "
         "the paper's.",
         "",
+        *(smoke_lines if smoke else []),
         "## Set-up",
         "",
         f"- budget: `{config.budget_name}`; seeds: {config.seeds} (training seeds {seeds}); "
@@ -419,6 +472,7 @@ def write_report(
         "and this report comes on top (printed by the command)",
         f"- machine: {machine()}",
         "- versions: " + ", ".join(f"{k} {v}" for k, v in versions().items()),
+        f"- {end_reasons_text()}",
         "",
     ]
     if results.failures or results.missing:
@@ -444,7 +498,7 @@ def write_report(
         "",
         "## Do we agree with the paper?",
         "",
-        *claims(results, speed),
+        *(["No verdicts from a smoke test (see the top)."] if smoke else claims(results, speed)),
         "",
         "## Route keeping (Figures 12, 13, 15-19)",
         "",

@@ -4,11 +4,17 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from dataclasses import replace
 
 import pytest
 from reproduce_standins import fake_work
 
+from rov_envs.rewards import END_REASONS
 from sb3_pnn.reproduce.cli import main
+from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.report import write_report
+from sb3_pnn.reproduce.results import load_results
+from sb3_pnn.reproduce.store import RunStore
 
 
 @pytest.mark.parametrize(
@@ -45,6 +51,16 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     assert "## Figure 20" in report and "| SPNN |" in report
     assert "100 % / 98 % / 98 %" in report  # the paper's SPNN row beside ours
     assert "90 % [" in report  # stand-in SPNN success pooled with its Wilson interval
+    # a smoke-sized budget is marked as such and gives no verdicts; the end reasons are explained
+    assert "**Smoke test** (budget `tiny`" in report and "No verdicts from a smoke test" in report
+    assert "agree" not in report.split("## Do we agree with the paper?")[1]
+    assert all(f"`{reason}`: " in report for reason in END_REASONS if reason != "none")
+    # the same runs reported as a full study: verdicts, no smoke-test mark
+    config = StudyConfig(budget_name="tiny", seeds=1, eval_episodes=10)
+    results = load_results(build_plan(config), RunStore(out))
+    write_report(results, replace(config, budget_name="full"), [], [], out / "full.md", 2)
+    full = (out / "full.md").read_text()
+    assert "Smoke test" not in full and "SPNN succeeds at least as often as PNN" in full
     names = {p.name for p in (out / "figures").iterdir()}
     expected = {
         "fig10_learning_curves.png",
