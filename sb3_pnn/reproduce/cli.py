@@ -22,10 +22,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.plan import BUDGETS, StudyConfig, build_plan
 from sb3_pnn.reproduce.store import RunStore, StudyConflictError, write_json_atomic
 
 DEFAULT_OUT = "results/study"
+#: Training seeds per budget when --seeds is not given.
+DEFAULT_SEEDS = {"full": 5, "quick": 2, "tiny": 2}
 SESSIONS = "sessions.json"
 
 
@@ -44,25 +46,37 @@ def _positive_int(name: str) -> Any:
     return parse
 
 
+def _budget_text(name: str, seeds: int) -> str:
+    """A budget of :mod:`.plan` in words (the help text quotes the plan, never a copy of it)."""
+    budget = BUDGETS[name]
+    priors = " / ".join(f"{n} {k}" for k, n in budget.prior_episodes.items())
+    agents = " / ".join(f"{n} {path}" for path, n in budget.transfer_episodes.items())
+    return f"priors {priors}, agents {agents}, evaluation {budget.eval_episodes}, {seeds} seed(s)"
+
+
 def make_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="python -m sb3_pnn.reproduce",
         description="Reproduce Pan et al. (2025) section 4.3: train PNN, SPNN, SAC-Single and "
         "SAC-Multi on the BlueROV2 planning tasks, evaluate them and the PID baselines, and "
         "write figures 10-20 and report.md.",
-        epilog="Budgets (training episodes per run; evaluation episodes per policy and task): "
-        "full = priors 150 (path following) / 200 (obstacle avoidance), agents 150, eval 50, "
-        "5 seeds; --quick = 25 / 25, eval 10, 2 seeds. A killed study resumes when rerun with "
-        "the same arguments; a changed budget needs another --out.",
+        epilog="Budgets (training episodes per run, evaluation episodes per policy and task): "
+        f"full = {_budget_text('full', DEFAULT_SEEDS['full'])}; --quick = "
+        f"{_budget_text('quick', DEFAULT_SEEDS['quick'])}. Measured wall times: README.md, "
+        "'Measured figures'; report.md gives this study's own. A killed study resumes when rerun "
+        "with the same arguments; a changed budget needs another --out.",
     )
     parser.add_argument(
-        "--quick", action="store_true", help="smoke-sized study (about 5 minutes on 2 cores)"
+        "--quick",
+        action="store_true",
+        help="smoke test: checks that the study runs end to end; its report gives no verdicts",
     )
     parser.add_argument(
         "--seeds",
         type=_positive_int("--seeds"),
         default=None,
-        help="training seeds per agent and task (default 5; 2 with --quick)",
+        help=f"training seeds per agent and task (default {DEFAULT_SEEDS['full']}; "
+        f"{DEFAULT_SEEDS['quick']} with --quick)",
     )
     parser.add_argument(
         "--jobs",
@@ -102,7 +116,7 @@ def make_parser() -> argparse.ArgumentParser:
 
 def config_from_args(args: argparse.Namespace) -> StudyConfig:
     budget = "tiny" if args.tiny else ("quick" if args.quick else "full")
-    seeds = args.seeds if args.seeds is not None else (5 if budget == "full" else 2)
+    seeds = args.seeds if args.seeds is not None else DEFAULT_SEEDS[budget]
     return StudyConfig(
         budget_name=budget,
         seeds=seeds,

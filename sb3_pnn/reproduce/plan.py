@@ -96,17 +96,14 @@ class Budget:
     trace_episodes: int = 1
 
 
-#: Full study: 5 seeds; meant to take at most one hour on an idle 2-core machine. Measured CPU
-#: seconds per run (04:00 UTC, DiscreteSAC on one thread): priors 32-49 s, PNN on the straight task
-#: 56 s; about 3,000 CPU seconds for the 47 runs, i.e. about 25 min on 2 idle cores (more when
-#: other work shares the cores: the report gives wall and CPU time of every run).
+#: Full study: 5 seeds; meant to take at most one hour on an idle 2-core machine (measured times:
+#: README.md, "Measured figures"; the report gives wall and CPU time of every run).
 FULL = Budget(
     prior_episodes={"pf_straight": 150, "pf_sine": 150, "oa": 200},
     transfer_episodes={"straight": 150, "sine": 150},
     eval_episodes=50,
 )
-#: ``--quick``: smoke-sized, at most five minutes on 2 cores (measured 3.1 min with the 2 cores
-#: shared with about 8 other busy processes).
+#: ``--quick``: a smoke test of the whole study, meant to take at most five minutes on 2 cores.
 QUICK = Budget(
     prior_episodes={"pf_straight": 25, "pf_sine": 25, "oa": 25},
     transfer_episodes={"straight": 25, "sine": 25},
