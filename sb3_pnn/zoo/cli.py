@@ -20,9 +20,13 @@ enjoy:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import io
+import re
 import sys
-from collections.abc import Iterator
+import textwrap
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 import gymnasium as gym
@@ -136,14 +140,33 @@ def _zoo_manager(manager: type) -> Iterator[None]:
         rl_zoo3.train.ExperimentManager = saved
 
 
+def print_help(ours: argparse.ArgumentParser, zoo_command: Callable[[], None], prog: str) -> None:
+    """One help text: rl_zoo3's usage line, then our options, then rl_zoo3's options."""
+    captured = io.StringIO()
+    with _argv([prog, "--help"]), contextlib.redirect_stdout(captured):
+        try:
+            zoo_command()  # prints the zoo's help and exits
+        except SystemExit:
+            pass
+    usage, _, zoo_options = captured.getvalue().partition("\n\n")
+    # our flags, [--priors ZIP [ZIP ...]] ..., appended to the zoo's usage in its layout
+    flags = re.findall(r"\[(?:[^\[\]]|\[[^\]]*\])*\]", ours.format_usage().split(prog, 1)[1])
+    indent = " " * len(f"usage: {prog} ")
+    lines = usage.splitlines()
+    for flag in (" ".join(flag.split()) for flag in flags):
+        if len(lines[-1]) + 1 + len(flag) <= 80:
+            lines[-1] += f" {flag}"
+        else:
+            lines.append(indent + flag)
+    ours.usage = argparse.SUPPRESS
+    print("\n".join(lines), ours.format_help().strip("\n"), zoo_options.rstrip("\n"), sep="\n\n")
+
+
 def train_main(argv: list[str] | None = None) -> None:
     """Parse our flags, check the input, then run ``rl_zoo3.train.train()`` with our manager."""
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = _our_train_parser()
     ours, rest = parser.parse_known_args(argv)
-    if "-h" in rest or "--help" in rest:
-        parser.print_help()
-        print()
     import rl_zoo3.train
 
     from sb3_pnn.zoo.configs import default_config_path
@@ -152,12 +175,14 @@ def train_main(argv: list[str] | None = None) -> None:
     from sb3_pnn.zoo.tuning import parse_cli_bounds
 
     register_algos()
-    if not ("-h" in rest or "--help" in rest):
-        common, _ = _common_parser().parse_known_args(rest)
-        check_algo_and_env(common.algo, common.env, common.gym_packages)
-        check_steps(common.n_timesteps, "the config's n_timesteps")
-        if common.conf_file is None and common.algo in OUR_ALGOS:
-            rest += ["--conf-file", str(default_config_path(common.algo))]
+    if "-h" in rest or "--help" in rest:
+        print_help(parser, rl_zoo3.train.train, TRAIN_PROG)
+        return
+    common, _ = _common_parser().parse_known_args(rest)
+    check_algo_and_env(common.algo, common.env, common.gym_packages)
+    check_steps(common.n_timesteps, "the config's n_timesteps")
+    if common.conf_file is None and common.algo in OUR_ALGOS:
+        rest += ["--conf-file", str(default_config_path(common.algo))]
     options = ZooOptions(
         priors=ours.priors,
         tune=parse_cli_bounds(ours.tune),
@@ -188,27 +213,32 @@ def _enjoy_parser() -> argparse.ArgumentParser:
     """rl_zoo3.enjoy's flags that the recording path honours, plus ours."""
     from rl_zoo3.utils import StoreDict
 
-    parser = argparse.ArgumentParser(prog=ENJOY_PROG, add_help=False)
+    parser = argparse.ArgumentParser(
+        prog=ENJOY_PROG, add_help=False, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ours = parser.add_argument_group("sb3_pnn options (besides rl_zoo3's, listed below)")
     ours.add_argument("--record", metavar="PATH", help="record a video headless to PATH")
     ours.add_argument("--fps", type=int, default=20, help="frames per second of the recording")
     zoo = parser.add_argument_group("rl_zoo3.enjoy flags honoured when recording")
-    zoo.add_argument("--env")
-    zoo.add_argument("--algo")
-    zoo.add_argument("-f", "--folder", default="logs")
-    zoo.add_argument("-n", "--n-timesteps", type=int, default=1000)
-    zoo.add_argument("--exp-id", type=int, default=0)
-    zoo.add_argument("--load-best", action="store_true")
-    zoo.add_argument("--load-checkpoint", type=int)
-    zoo.add_argument("--load-last-checkpoint", action="store_true")
-    zoo.add_argument("--deterministic", action="store_true")
-    zoo.add_argument("--stochastic", action="store_true")
-    zoo.add_argument("--seed", type=int, default=0)
-    zoo.add_argument("--device", default="auto")
-    zoo.add_argument("--verbose", type=int, default=1)
-    zoo.add_argument("--no-render", action="store_true")
-    zoo.add_argument("--gym-packages", nargs="+", default=[])
-    zoo.add_argument("--env-kwargs", nargs="+", action=StoreDict)
+    hidden = argparse.SUPPRESS  # listed once, in the zoo's own help below
+    zoo.add_argument("--env", help=hidden)
+    zoo.add_argument("--algo", help=hidden)
+    zoo.add_argument("-f", "--folder", default="logs", help=hidden)
+    zoo.add_argument("-n", "--n-timesteps", type=int, default=1000, help=hidden)
+    zoo.add_argument("--exp-id", type=int, default=0, help=hidden)
+    zoo.add_argument("--load-best", action="store_true", help=hidden)
+    zoo.add_argument("--load-checkpoint", type=int, help=hidden)
+    zoo.add_argument("--load-last-checkpoint", action="store_true", help=hidden)
+    zoo.add_argument("--deterministic", action="store_true", help=hidden)
+    zoo.add_argument("--stochastic", action="store_true", help=hidden)
+    zoo.add_argument("--seed", type=int, default=0, help=hidden)
+    zoo.add_argument("--device", default="auto", help=hidden)
+    zoo.add_argument("--verbose", type=int, default=1, help=hidden)
+    zoo.add_argument("--no-render", action="store_true", help=hidden)
+    zoo.add_argument("--gym-packages", nargs="+", default=[], help=hidden)
+    zoo.add_argument("--env-kwargs", nargs="+", action=StoreDict, help=hidden)
+    flags = ", ".join(a.option_strings[-1] for a in zoo._group_actions)
+    zoo.description = textwrap.fill(flags, width=76, break_on_hyphens=False)
     return parser
 
 
@@ -221,12 +251,9 @@ def enjoy_main(argv: list[str] | None = None) -> None:
 
     register_algos()
     if wants_help:
-        parser.print_help()
-        print()
         import rl_zoo3.enjoy
 
-        with _argv([ENJOY_PROG, "--help"]):
-            rl_zoo3.enjoy.enjoy()
+        print_help(parser, rl_zoo3.enjoy.enjoy, ENJOY_PROG)
         return
     args, rest = parser.parse_known_args(argv)
     check_algo_and_env(args.algo, args.env, args.gym_packages)

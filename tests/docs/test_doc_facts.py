@@ -71,3 +71,17 @@ def test_reproduce_help_quotes_the_plan_and_no_times(capsys: pytest.CaptureFixtu
         assert f"agents {budget.transfer_episodes['straight']} straight" in text
         assert f"evaluation {budget.eval_episodes}," in text
     assert not re.search(r"\d\s*(min|minutes|hours?)\b", text), "times belong to the README"
+
+
+def test_readme_lists_every_console_script() -> None:
+    import configparser
+
+    setup = configparser.ConfigParser()
+    setup.read(REPO / "setup.cfg")
+    scripts = setup["options.entry_points"]["console_scripts"].strip().splitlines()
+    readme = (REPO / "README.md").read_text()
+    assert scripts
+    for line in scripts:
+        name, target = (part.strip() for part in line.split("="))
+        module = target.split(":")[0].removesuffix(".cli")  # reproduce.cli: python -m ...reproduce
+        assert f"| `{name}` | `python -m {module}` |" in readme, name
