@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
+from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
 
 #: Control period (s): one environment step, the physics' default (0.2 s, 4 RK4 substeps).
@@ -89,6 +90,7 @@ class EnvConfig:
     render_mode: str | None
     success_reward: float = 200.0
     dt: float = CONTROL_PERIOD
+    vehicle: str = DEFAULT_VEHICLE
 
     @property
     def path_length(self) -> float:
@@ -162,6 +164,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         render_mode: None or ``"rgb_array"``.
         success_reward: reward added on the step that reaches the target (default 200; our
             addition to eq. 21, see :mod:`rov_envs.rewards`; 0 gives the paper's reward literally).
+        vehicle: the BlueROV2 parameter set, one of ``rov_envs.physics.params.VEHICLES``:
+            ``"uuv_simulator"`` (default, the paper's Gazebo model) or ``"wu2018"`` (Wu 2018).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -181,6 +185,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "max_episode_seconds",
         "render_mode",
         "success_reward",
+        "vehicle",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -238,6 +243,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     )
     if success_reward < 0:
         raise _bad("success_reward", success_reward, "a finite float >= 0")
+    vehicle = kwargs.get("vehicle", DEFAULT_VEHICLE)
+    if not isinstance(vehicle, str) or vehicle not in VEHICLES:
+        raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
     base = EnvConfig(
         task=task,
         length=length,
@@ -254,6 +262,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         max_episode_seconds=1.0,
         render_mode=render_mode,
         success_reward=success_reward,
+        vehicle=vehicle,
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -15,7 +15,10 @@ from rov_envs import kernel as K
 from rov_envs.config import TARGET_RADIUS, U_REF, EnvConfig
 from rov_envs.layouts import LAYOUT_CODES, LAYOUT_FIXED, max_obstacles
 from rov_envs.physics.dynamics import DEFAULT_SUBSTEPS
+from rov_envs.physics.etd import ETD_SIZE
 from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
+from rov_envs.physics.integrator import vehicle_coefficients
+from rov_envs.physics.params import vehicle_code
 from rov_envs.tasks import PATH_SINE
 
 
@@ -67,4 +70,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_START_PSI] = start_heading(config)
     c[K.C_START_POS_STD], c[K.C_START_HEAD_STD] = config.start_noise
     c[K.C_CURRENT_X], c[K.C_CURRENT_Y] = config.current
+    c[K.C_VEHICLE] = vehicle_code(config.vehicle)
+    coefficients = vehicle_coefficients(int(c[K.C_VEHICLE]), config.dt, DEFAULT_SUBSTEPS)
+    c[K.C_ETD : K.C_ETD + ETD_SIZE] = np.ravel(coefficients)
     return c

@@ -30,9 +30,9 @@ import numpy as np
 from numba import njit, prange
 
 from rov_envs.layouts import draw_layout
+from rov_envs.physics.etd import ETD_SIZE, unpack_coefficients
 from rov_envs.physics.guidance import los_tuple
 from rov_envs.physics.integrator import (
-    DEFAULT_PARAMS,
     LANES,
     ROW_CMD,
     ROW_CURRENT,
@@ -43,10 +43,14 @@ from rov_envs.physics.integrator import (
     ROW_X,
     ROW_Y,
     ROWS,
-    advance_block_default,
+    UUV_SIMULATOR_PARAMS,
+    VEHICLE_UUV_SIMULATOR,
+    VEHICLE_WU2018,
+    WU2018_PARAMS,
+    advance_block_vehicle,
     lane_index,
 )
-from rov_envs.physics.params import P_SIZE, BlueROV2Params
+from rov_envs.physics.params import P_SIZE, VEHICLES, vehicle_code, vehicle_params
 from rov_envs.physics.sonar import _nearest, _scan
 from rov_envs.physics.thrusters import continuous_pair_speeds
 from rov_envs.random_stream import gauss
@@ -88,7 +92,10 @@ C_START_POS_STD = 22  # start-pose perturbation: position std (m)
 C_START_HEAD_STD = 23  # start-pose perturbation: heading std (rad)
 C_CURRENT_X = 24  # world-frame water velocity (m/s)
 C_CURRENT_Y = 25
-C_SIZE = 26
+C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
+C_MOTION = 27  # 1.0 when the observation has a "motion" part
+C_ETD = 28  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
 # so that each info array is one contiguous row) ----
@@ -130,30 +137,37 @@ _MAX_SPEED = 8000.0
 
 
 @njit(cache=True, _nrt=False)
-def _compiled_params(out):
-    """Copy the default parameters compiled into this module's cached code into ``out``.
+def _compiled_params(vehicle, out):
+    """Copy the parameters of preset ``vehicle`` compiled into this module's cached code.
 
     Defined here, not in ``integrator``: numba caches each module's code on its own, so only a
     probe cached with the step kernels sees the constants they were compiled with.
     """
-    for k in range(out.shape[0]):
-        out[k] = DEFAULT_PARAMS[k]
+    if vehicle == VEHICLE_UUV_SIMULATOR:
+        for k in range(out.shape[0]):
+            out[k] = UUV_SIMULATOR_PARAMS[k]
+    elif vehicle == VEHICLE_WU2018:
+        for k in range(out.shape[0]):
+            out[k] = WU2018_PARAMS[k]
 
 
 def check_compiled_params() -> None:
-    """Refuse to run when numba's cache holds kernels compiled with other default parameters.
+    """Refuse to run when numba's cache holds kernels compiled with other preset parameters.
 
-    The kernels have ``BlueROV2Params()`` compiled in (``integrator.advance_block_default``);
-    numba's cache does not notice edits to ``rov_envs/physics/params.py``.
+    The kernels have every preset of ``params.VEHICLES`` compiled in
+    (``integrator.advance_block_vehicle``); numba's cache does not notice edits to
+    ``rov_envs/physics/params.py``.
     """
     compiled = np.empty(P_SIZE)
-    _compiled_params(compiled)
-    if not np.array_equal(compiled, BlueROV2Params().to_array()):
-        raise RuntimeError(
-            "rov_envs: numba's cache holds physics compiled with other BlueROV2Params defaults "
-            "(rov_envs/physics/params.py changed); delete the __pycache__ folders under "
-            "rov_envs/ (or set NUMBA_CACHE_DIR to an empty folder) and run again"
-        )
+    for name in VEHICLES:  # a preset without a branch in ``_compiled_params`` stays NaN: refused
+        compiled[:] = np.nan
+        _compiled_params(vehicle_code(name), compiled)
+        if not np.array_equal(compiled, vehicle_params(name).to_array()):
+            raise RuntimeError(
+                f"rov_envs: numba's cache holds physics compiled with other parameters of vehicle "
+                f"{name!r} (rov_envs/physics/params.py changed); delete the __pycache__ folders "
+                "under rov_envs/ (or set NUMBA_CACHE_DIR to an empty folder) and run again"
+            )
 
 
 @njit(cache=True, inline="always")
@@ -354,7 +368,8 @@ def step_block(
             a = actions[i]
             for k in range(6):
                 lanes[c + k * LANES] = table[a, k]
-    advance_block_default(lanes, b, cfg[C_DT], int(cfg[C_NSUB]))
+    coef = unpack_coefficients(cfg, C_ETD)
+    advance_block_vehicle(lanes, b, int(cfg[C_VEHICLE]), coef, cfg[C_DT], int(cfg[C_NSUB]))
     for i in range(i0, i1):
         if mode == MODE_NEXT_STEP and pending[i]:
             reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
