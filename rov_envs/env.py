@@ -96,6 +96,8 @@ class RovEnv(gym.Env):
         self.render_mode = self.config.render_mode
         self.observation_space, self.action_space = make_spaces(self.config)
         self.sonar_range = self.config.sonar_range
+        #: the BlueROV2 parameter set this env runs (``rov_envs.physics.params.VEHICLES``)
+        self.vehicle = self.config.vehicle
         self._batch = RovBatch(1, config=self.config)
         self._continuous = self.config.continuous
         self._has_sonar = self.config.has_sonar

@@ -54,6 +54,8 @@ class RovSB3VecEnv(VecEnv):
         self.batch = RovBatch(num_envs, _task_name(task), **kwargs)
         self.render_mode = None
         self.sonar_range = self.batch.config.sonar_range
+        #: the BlueROV2 parameter set these vehicles run (``rov_envs.physics.params.VEHICLES``)
+        self.vehicle = self.batch.config.vehicle
         self.info_keys = tuple(info_keys)
         known = set(self.batch.infos())
         for key in self.info_keys:
