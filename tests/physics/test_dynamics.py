@@ -202,3 +202,15 @@ def test_bad_parameters_are_refused():
         BlueROV2Params(added_mass=(1.0, 2.0))
     with pytest.raises(ValueError, match="buoyancy"):
         BlueROV2Params(buoyancy=float("nan"))
+
+
+def test_uuv_is_directionally_stable_and_wu_is_not():
+    """After 5 s of Turn left 2, "Go straight" straightens UUV Simulator's vehicle out; Wu's
+    settles into its steady spin (params docstring)."""
+    results = {}
+    for vehicle in VEHICLES:
+        s = _run(ACTION_TABLE[1], 5.0, vehicle)
+        results[vehicle] = _run(ACTION_TABLE[2], 30.0, vehicle, state=s)
+    uuv, wu = results["uuv_simulator"], results["wu2018"]
+    assert abs(uuv[11]) < 1e-4 and abs(uuv[7]) < 1e-4 and uuv[6] == pytest.approx(1.0, abs=1e-3)
+    assert wu[11] == pytest.approx(1.14, abs=0.02) and wu[7] == pytest.approx(-0.55, abs=0.02)
