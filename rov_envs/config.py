@@ -91,6 +91,7 @@ class EnvConfig:
     success_reward: float = 200.0
     dt: float = CONTROL_PERIOD
     vehicle: str = DEFAULT_VEHICLE
+    motion_obs: bool = False
 
     @property
     def path_length(self) -> float:
@@ -166,6 +167,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
             addition to eq. 21, see :mod:`rov_envs.rewards`; 0 gives the paper's reward literally).
         vehicle: the BlueROV2 parameter set, one of ``rov_envs.physics.params.VEHICLES``:
             ``"uuv_simulator"`` (default, the paper's Gazebo model) or ``"wu2018"`` (Wu 2018).
+        motion_obs: add a ``"motion"`` part to the observation: (sway v in m/s, yaw rate r in
+            rad/s) in the body frame, clipped to (+-3 m/s, +-2 rad/s) (default False).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -186,6 +189,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "render_mode",
         "success_reward",
         "vehicle",
+        "motion_obs",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -235,6 +239,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     continuous = kwargs.get("continuous", False)
     if not isinstance(continuous, (bool, np.bool_)):
         raise _bad("continuous", continuous, "True or False")
+    motion_obs = kwargs.get("motion_obs", False)
+    if not isinstance(motion_obs, (bool, np.bool_)):
+        raise _bad("motion_obs", motion_obs, "True or False")
     render_mode = kwargs.get("render_mode")
     if render_mode not in (None, "rgb_array"):
         raise _bad("render_mode", render_mode, "None or 'rgb_array'")
@@ -263,6 +270,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         render_mode=render_mode,
         success_reward=success_reward,
         vehicle=vehicle,
+        motion_obs=bool(motion_obs),
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -62,6 +62,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_LOOKAHEAD] = DEFAULT_LOOKAHEAD
     c[K.C_GOALX], c[K.C_GOALY] = config.target
     c[K.C_SONAR] = 1.0 if config.has_sonar else 0.0
+    c[K.C_MOTION] = 1.0 if config.motion_obs else 0.0
     c[K.C_TARGET_R] = TARGET_RADIUS
     c[K.C_SUCCESS_R] = config.success_reward
     c[K.C_UREF] = U_REF

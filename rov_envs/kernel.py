@@ -14,7 +14,8 @@ Autoreset modes: ``MODE_PLAIN`` (none: single env, evaluation), ``MODE_NEXT_STEP
 default: a vehicle flagged in ``pending`` is reset instead of stepped, with reward 0 and no
 ending; ``pending`` then flags the vehicles that ended this step) and ``MODE_SAME_STEP`` (SB3:
 a vehicle that ends is reset in the same call, its final observation copied to ``term_path`` /
-``term_sonar`` and its final reward and ending to ``final``, and flagged in ``pending``).
+``term_sonar`` / ``term_motion`` and its final reward and ending to ``final``, and flagged in
+``pending``).
 
 Per-vehicle results live in ``out`` with one row per field (``O_*``), so that each info array the
 environments return is one contiguous row. The step path is compiled with ``_nrt=False``:
@@ -134,6 +135,11 @@ F_SIZE = 4
 
 #: Largest thruster command of the continuous mapping (rev/min), Table 1's largest.
 _MAX_SPEED = 8000.0
+#: Bounds of the observation's "motion" part (clipped): |sway| in m/s, |yaw rate| in rad/s. Under
+#: Table 1 actions Wu's vehicle reaches 1.6 rad/s and 0.5 m/s of sway (UUV Simulator's 0.28 rad/s,
+#: 0.06 m/s), and the largest current (2 m/s) adds its own sway: |v| <= 2.5 m/s.
+MOTION_SWAY_LIMIT = 3.0
+MOTION_YAW_RATE_LIMIT = 2.0
 
 
 @njit(cache=True, _nrt=False)
@@ -177,11 +183,14 @@ def _distance(dx, dy):
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
-    """Guidance, obstacle distance and sonar of vehicle i; fills its observation and ``out``.
+def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out):
+    """Guidance, obstacle distance, sonar and motion of vehicle i; fills its observation and
+    ``out``.
 
     The sonar looks along the heading of the attitude quaternion (the body x axis projected on
-    the horizontal plane); guidance uses the heading row.
+    the horizontal plane); guidance uses the heading row. The motion part is the body-frame sway
+    v (m/s, over ground, as the vehicle's velocity state) and yaw rate r (rad/s), clipped to
+    +-``MOTION_SWAY_LIMIT`` / +-``MOTION_YAW_RATE_LIMIT``.
     """
     o = lane_index(i)
     x = lanes[o + ROW_X * LANES]
@@ -217,6 +226,11 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
                 if sigma > 0.0 and v < rmax:
                     v = min(rmax, max(0.0, v + sigma * gauss(rng, i)))
                 obs_sonar[i, k] = v / rmax
+    v = lanes[o + (ROW_U + 1) * LANES]
+    r = lanes[o + ROW_R * LANES]
+    if cfg[C_MOTION] != 0.0:
+        obs_motion[i, 0] = min(MOTION_SWAY_LIMIT, max(-MOTION_SWAY_LIMIT, v))
+        obs_motion[i, 1] = min(MOTION_YAW_RATE_LIMIT, max(-MOTION_YAW_RATE_LIMIT, r))
     out[O_AC, i] = a_c
     out[O_G, i] = g
     out[O_D, i] = d
@@ -225,8 +239,8 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     out[O_Y, i] = y
     out[O_PSI, i] = psi
     out[O_U, i] = lanes[o + ROW_U * LANES]
-    out[O_V, i] = lanes[o + (ROW_U + 1) * LANES]
-    out[O_YAW_RATE, i] = lanes[o + ROW_R * LANES]
+    out[O_V, i] = v
+    out[O_YAW_RATE, i] = r
 
 
 @njit(cache=True, _nrt=False)
@@ -246,7 +260,9 @@ def place_vehicle(i, lanes, cfg, x, y, psi):
 
 
 @njit(cache=True, _nrt=False)
-def start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def start_episode(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """Vehicle i starts an episode where it stands: clear its counters and observe."""
     o = lane_index(i)
     for k in range(O_SIZE):
@@ -255,11 +271,13 @@ def start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs
         cfg[C_GOALX] - lanes[o + ROW_X * LANES], cfg[C_GOALY] - lanes[o + ROW_Y * LANES]
     )
     out[O_PROG, i] = np.nan  # no warm start: global closest-point search
-    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out)
 
 
 @njit(cache=True, _nrt=False)
-def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_vehicle(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """Draw vehicle i's next episode from its stream (layout, start-pose noise) and start it."""
     kind = int(cfg[C_LAYOUT])
     if kind != 0:
@@ -277,27 +295,39 @@ def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs
     if cfg[C_START_HEAD_STD] > 0.0:
         psi += cfg[C_START_HEAD_STD] * gauss(rng, i)
     place_vehicle(i, lanes, cfg, x, y, psi)
-    start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    start_episode(
+        i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+    )
 
 
 @njit(cache=True, _nrt=False)
-def reset_all(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_all(
+    n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """``reset_vehicle`` for vehicles 0..n-1."""
     for i in range(n):
-        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        reset_vehicle(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
 
 
 @njit(parallel=True, cache=True, _nrt=False)
-def reset_all_parallel(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_all_parallel(
+    n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """``reset_all`` on numba's threads (a function of its own: see ``step_batch_parallel``)."""
     for i in prange(n):
-        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        reset_vehicle(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def finish_step(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """After the physics: observe vehicle i, then its reward (eq. 17-21) and ending."""
-    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out)
     a_c = out[O_AC, i]
     g = out[O_G, i]
     d = out[O_D, i]
@@ -349,7 +379,8 @@ def first_bad_action(n, actions, cont, continuous, n_actions):
 @njit(cache=True, _nrt=False)
 def step_block(
     b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """One control step for the vehicles of block b (see the module docstring for ``mode``)."""
     i0 = b * LANES
@@ -372,10 +403,24 @@ def step_block(
     advance_block_vehicle(lanes, b, int(cfg[C_VEHICLE]), coef, cfg[C_DT], int(cfg[C_NSUB]))
     for i in range(i0, i1):
         if mode == MODE_NEXT_STEP and pending[i]:
-            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+            reset_vehicle(
+                i,
+                lanes,
+                cfg,
+                obstacles,
+                n_obs,
+                rng,
+                sonar_raw,
+                obs_path,
+                obs_sonar,
+                obs_motion,
+                out,
+            )
             pending[i] = False
             continue
-        finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        finish_step(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
         if mode == MODE_PLAIN:
             continue
         done = out[O_TERM, i] != 0.0 or out[O_TRUNC, i] != 0.0
@@ -389,26 +434,43 @@ def step_block(
             term_path[i, 1] = obs_path[i, 1]
             for k in range(obs_sonar.shape[1]):
                 term_sonar[i, k] = obs_sonar[i, k]
-            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+            term_motion[i, 0] = obs_motion[i, 0]
+            term_motion[i, 1] = obs_motion[i, 1]
+            reset_vehicle(
+                i,
+                lanes,
+                cfg,
+                obstacles,
+                n_obs,
+                rng,
+                sonar_raw,
+                obs_path,
+                obs_sonar,
+                obs_motion,
+                out,
+            )
 
 
 @njit(cache=True, _nrt=False)
 def step_batch(
     mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """One control step for N vehicles, blocks one after the other (single env, small N)."""
     for b in range((n + LANES - 1) // LANES):
         step_block(
             b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
-            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+            rng, sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar,
+            term_motion, final,
         )  # fmt: skip
 
 
 @njit(cache=True, parallel=True, _nrt=False)
 def step_batch_parallel(
     mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """``step_batch`` with the blocks spread over numba's threads (the same numbers).
 
@@ -419,5 +481,6 @@ def step_batch_parallel(
     for b in prange((n + LANES - 1) // LANES):
         step_block(
             b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
-            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+            rng, sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar,
+            term_motion, final,
         )  # fmt: skip

@@ -109,15 +109,11 @@ class RovSB3VecEnv(VecEnv):
             success = (final[K.F_END] == END_SUCCESS).tolist()
             returns = self._ep_return[ended].tolist()
             lengths = self._ep_len[ended].tolist()
-            paths = b.term_path[ended]  # copies: the rows below outlive later steps
-            sonars = b.term_sonar[ended] if b.has_sonar else None
+            terminal = b.terminal_observations(ended)  # copies: they outlive later steps
             t = round(time.time() - self._t0, 6)
             for j, i in enumerate(ended.tolist()):
-                terminal = {"path": paths[j]}
-                if sonars is not None:
-                    terminal["sonar"] = sonars[j]
                 infos[i].update(
-                    terminal_observation=terminal,
+                    terminal_observation={k: v[j] for k, v in terminal.items()},
                     is_success=success[j],
                     episode={"r": returns[j], "l": lengths[j], "t": t},
                 )
