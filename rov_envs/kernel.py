@@ -404,18 +404,9 @@ def step_block(
     for i in range(i0, i1):
         if mode == MODE_NEXT_STEP and pending[i]:
             reset_vehicle(
-                i,
-                lanes,
-                cfg,
-                obstacles,
-                n_obs,
-                rng,
-                sonar_raw,
-                obs_path,
-                obs_sonar,
-                obs_motion,
+                i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion,
                 out,
-            )
+            )  # fmt: skip
             pending[i] = False
             continue
         finish_step(
@@ -437,18 +428,9 @@ def step_block(
             term_motion[i, 0] = obs_motion[i, 0]
             term_motion[i, 1] = obs_motion[i, 1]
             reset_vehicle(
-                i,
-                lanes,
-                cfg,
-                obstacles,
-                n_obs,
-                rng,
-                sonar_raw,
-                obs_path,
-                obs_sonar,
-                obs_motion,
+                i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion,
                 out,
-            )
+            )  # fmt: skip
 
 
 @njit(cache=True, _nrt=False)
