@@ -17,7 +17,7 @@ from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
 
-#: Control period (s): one environment step, the physics' default (0.2 s, 4 RK4 substeps).
+#: Control period (s): one environment step, the physics' default (0.2 s, 4 ETDRK4 substeps).
 CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
 #: Reference speed (m/s) for the default time limit and the progress reward.
 U_REF = 1.0
