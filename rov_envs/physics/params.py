@@ -30,7 +30,7 @@ read from the public UUVControl/bluerov2 repository.
   (actuators.xacro), renumbered the same way. The description's ``rotor_constant`` 1e-5 is not
   used (see *Thrust calibration*).
 * Properties that matter for control: the vehicle is directionally stable (no sway added mass,
-  yaw damping 5) and turns slowly with Table 1's one-sided commands (about 0.16 / 0.28 rad/s for
+  yaw damping 5) and turns slowly with Table 1's one-sided commands (about 0.16 / 0.27 rad/s for
   Turn 1 / Turn 2, in a circle of about 1.8 m radius for Turn 2); roll and pitch are stiff
   (Ix / K_p = 0.011 s, (Iy + M_qdot) / M_q = 0.040 s), which the integrator handles by
   integrating the linear damping exactly (:mod:`rov_envs.physics.integrator`).
