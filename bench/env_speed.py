@@ -1,7 +1,8 @@
 """Steps per second of the rov_envs environments beside Gymnasium's Pendulum-v1 (same run).
 
 Usage: ``python bench/env_speed.py [--seconds 1.0] [--rounds 5] [--envs 64 256 1024 4096]
-[--task PlanningStraight] [--extra-tasks PlanningStraightDense PathFollowingSine]``
+[--task PlanningStraight] [--extra-tasks PlanningStraightDense PathFollowingSine]
+[--vehicle uuv_simulator]``
 
 Each row is timed in ``--rounds`` rounds, each round right after a round of the anchor, and the
 best round of each is kept (the least disturbed by other load). The anchor is Pendulum-v1 made
@@ -13,7 +14,8 @@ call alone costs about twice Pendulum's step and would flatter every ratio); the
 Rows: one environment through ``gymnasium.make`` (wrappers included) with random Table 1 actions
 (and with continuous actions); the natively batched environment through
 ``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")`` (total vehicle-steps per
-second, infos and autoresets included) and the SB3 ``VecEnv`` adapter, for each N.
+second, infos and autoresets included) and the SB3 ``VecEnv`` adapter, for each N; every row runs
+the vehicle preset ``--vehicle`` (default ``uuv_simulator``, the environments' default).
 Targets (issue 2): single >= 1x Pendulum-v1; batched, 64 or more vehicles, >= 50x.
 """
 
@@ -28,6 +30,7 @@ import numba
 import numpy as np
 
 import rov_envs  # noqa: F401  (registers the ids)
+from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.sb3 import RovSB3VecEnv
 
 
@@ -45,8 +48,8 @@ def timed(step: Callable[[int], None], seconds: float) -> float:
         n = max(n + 1, int(n * min(8.0, 1.2 * seconds / max(el, 1e-6))))
 
 
-def single_stepper(env_id: str, continuous: bool = False) -> Callable[[int], None]:
-    env = gym.make(env_id, continuous=continuous)
+def single_stepper(env_id: str, vehicle: str, continuous: bool = False) -> Callable[[int], None]:
+    env = gym.make(env_id, continuous=continuous, vehicle=vehicle)
     rng = np.random.default_rng(0)
     if continuous:
         acts = list(rng.uniform(-1, 1, size=(4096, 2)).astype(np.float32))
@@ -77,13 +80,15 @@ def pendulum_stepper(sample: bool) -> Callable[[int], None]:
     return step
 
 
-def vector_stepper(env_id: str, n: int, sb3: bool) -> Callable[[int], None]:
+def vector_stepper(env_id: str, n: int, sb3: bool, vehicle: str) -> Callable[[int], None]:
     if sb3:
-        env = RovSB3VecEnv(n, env_id)
+        env = RovSB3VecEnv(n, env_id, vehicle=vehicle)
         env.seed(0)
         env.reset()
     else:
-        env = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point")
+        env = gym.make_vec(
+            env_id, num_envs=n, vectorization_mode="vector_entry_point", vehicle=vehicle
+        )
         env.reset(seed=0)
     rng = np.random.default_rng(0)
     acts = [rng.integers(0, 5, size=n) for _ in range(64)]
@@ -102,30 +107,32 @@ def main() -> None:
     ap.add_argument("--task", default="PlanningStraight")
     ap.add_argument("--extra-tasks", nargs="*", default=[], help="batched rows at the largest N")
     ap.add_argument("--no-sb3", action="store_true", help="skip the SB3 VecEnv rows")
+    ap.add_argument("--vehicle", default=DEFAULT_VEHICLE, choices=VEHICLES, help="vehicle preset")
     args = ap.parse_args()
     if args.seconds <= 0 or args.rounds < 1 or min(args.envs) < 1:
         raise SystemExit("--seconds must be > 0, --rounds >= 1 and every --envs value >= 1")
     env_id = f"rov_envs/{args.task}-v0"
+    v = args.vehicle
 
     anchor = pendulum_stepper(sample=False)
     rows: list[tuple[str, Callable[[int], None], int]] = [
         ("Pendulum-v1, action_space.sample() in the loop", pendulum_stepper(sample=True), 1),
-        (f"{env_id} single", single_stepper(env_id), 1),
-        (f"{env_id} single, continuous", single_stepper(env_id, True), 1),
+        (f"{env_id} single", single_stepper(env_id, v), 1),
+        (f"{env_id} single, continuous", single_stepper(env_id, v, True), 1),
     ]
     for n in args.envs:
-        rows.append((f"{env_id} make_vec N={n}", vector_stepper(env_id, n, False), n))
+        rows.append((f"{env_id} make_vec N={n}", vector_stepper(env_id, n, False, v), n))
         if not args.no_sb3:
-            rows.append((f"{env_id} RovSB3VecEnv N={n}", vector_stepper(env_id, n, True), n))
+            rows.append((f"{env_id} RovSB3VecEnv N={n}", vector_stepper(env_id, n, True, v), n))
     big = max(args.envs)
     for task in args.extra_tasks:
         tid = f"rov_envs/{task}-v0"
-        rows.append((f"{tid} make_vec N={big}", vector_stepper(tid, big, False), big))
+        rows.append((f"{tid} make_vec N={big}", vector_stepper(tid, big, False, v), big))
 
     print(
-        f"numba {numba.__version__}, {numba.get_num_threads()} threads; best of {args.rounds} "
-        f"rounds of {args.seconds:g} s; anchor: Pendulum-v1 (gymnasium.make), actions drawn "
-        "beforehand"
+        f"vehicle {v}; numba {numba.__version__}, {numba.get_num_threads()} threads; best of "
+        f"{args.rounds} rounds of {args.seconds:g} s; anchor: Pendulum-v1 (gymnasium.make), "
+        "actions drawn beforehand"
     )
     print(f"{'row':58s} {'steps/s':>12s} {'x anchor':>9s} {'anchor':>9s}")
     best_anchor_all = 0.0

@@ -15,6 +15,8 @@ id                                        task
 ``rov_envs/PlanningSineDense-v0``         sinusoid, dense obstacles along the curve
 ========================================  ===============================================
 
+Every task takes ``vehicle="uuv_simulator"`` (default: UUV Simulator's BlueROV2, the paper's
+Gazebo model) or ``vehicle="wu2018"`` (Wu's 2018 parameter set), see ``rov_envs.physics.params``.
 Single environments: ``gymnasium.make(id, **kwargs)`` (:class:`RovEnv`). Natively batched:
 ``gymnasium.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``
 (:class:`RovVectorEnv`), or :class:`RovSB3VecEnv` for Stable-Baselines3.

@@ -14,9 +14,10 @@ from typing import Any
 import numpy as np
 
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
+from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
 
-#: Control period (s): one environment step, the physics' default (0.2 s, 4 RK4 substeps).
+#: Control period (s): one environment step, the physics' default (0.2 s, 4 ETDRK4 substeps).
 CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
 #: Reference speed (m/s) for the default time limit and the progress reward.
 U_REF = 1.0
@@ -89,6 +90,8 @@ class EnvConfig:
     render_mode: str | None
     success_reward: float = 200.0
     dt: float = CONTROL_PERIOD
+    vehicle: str = DEFAULT_VEHICLE
+    motion_obs: bool = False
 
     @property
     def path_length(self) -> float:
@@ -162,6 +165,10 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         render_mode: None or ``"rgb_array"``.
         success_reward: reward added on the step that reaches the target (default 200; our
             addition to eq. 21, see :mod:`rov_envs.rewards`; 0 gives the paper's reward literally).
+        vehicle: the BlueROV2 parameter set, one of ``rov_envs.physics.params.VEHICLES``:
+            ``"uuv_simulator"`` (default, the paper's Gazebo model) or ``"wu2018"`` (Wu 2018).
+        motion_obs: add a ``"motion"`` part to the observation: (sway v in m/s, yaw rate r in
+            rad/s) in the body frame, clipped to (+-3 m/s, +-2 rad/s) (default False).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -181,6 +188,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "max_episode_seconds",
         "render_mode",
         "success_reward",
+        "vehicle",
+        "motion_obs",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -230,6 +239,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     continuous = kwargs.get("continuous", False)
     if not isinstance(continuous, (bool, np.bool_)):
         raise _bad("continuous", continuous, "True or False")
+    motion_obs = kwargs.get("motion_obs", False)
+    if not isinstance(motion_obs, (bool, np.bool_)):
+        raise _bad("motion_obs", motion_obs, "True or False")
     render_mode = kwargs.get("render_mode")
     if render_mode not in (None, "rgb_array"):
         raise _bad("render_mode", render_mode, "None or 'rgb_array'")
@@ -238,6 +250,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     )
     if success_reward < 0:
         raise _bad("success_reward", success_reward, "a finite float >= 0")
+    vehicle = kwargs.get("vehicle", DEFAULT_VEHICLE)
+    if not isinstance(vehicle, str) or vehicle not in VEHICLES:
+        raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
     base = EnvConfig(
         task=task,
         length=length,
@@ -254,6 +269,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         max_episode_seconds=1.0,
         render_mode=render_mode,
         success_reward=success_reward,
+        vehicle=vehicle,
+        motion_obs=bool(motion_obs),
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -57,6 +57,7 @@ class RovBatch:
         self.single_observation_space, self.single_action_space = make_spaces(self.config)
         c = self.config
         self.has_sonar = c.has_sonar
+        self.has_motion = c.motion_obs
         self.continuous = c.continuous
         q = c.sonar_sectors if c.has_sonar else 0
         m = obstacle_capacity(c)
@@ -73,12 +74,14 @@ class RovBatch:
         self.sonar_raw = np.zeros((n, q))
         self.obs_path = np.zeros((n, 2), dtype=np.float32)
         self.obs_sonar = np.zeros((n, q), dtype=np.float32)
+        self.obs_motion = np.zeros((n, 2), dtype=np.float32)
         #: results and counters, one row per ``rov_envs.kernel.O_*`` field
         self.out = np.zeros((K.O_SIZE, n))
         #: per vehicle: autoreset pending (next-step mode) / was reset this step (same-step mode)
         self.pending = np.zeros(n, dtype=np.bool_)
         self.term_path = np.zeros((n, 2), dtype=np.float32)
         self.term_sonar = np.zeros((n, q), dtype=np.float32)
+        self.term_motion = np.zeros((n, 2), dtype=np.float32)
         self.final = np.zeros((K.F_SIZE, n))
         self.seeded = np.zeros(n, dtype=np.bool_)
         self._no_int = np.zeros(n, dtype=np.int64)
@@ -89,15 +92,15 @@ class RovBatch:
         #: the arrays ``kernel.step_batch`` takes after (mode, n, actions, cont, continuous)
         self.step_arrays = (
             self.table, self.cfg, self.lanes, self.obstacles, self.n_obs, self.rng,
-            self.sonar_raw, self.obs_path, self.obs_sonar, self.out, self.pending, self.term_path,
-            self.term_sonar, self.final,
+            self.sonar_raw, self.obs_path, self.obs_sonar, self.obs_motion, self.out, self.pending,
+            self.term_path, self.term_sonar, self.term_motion, self.final,
         )  # fmt: skip
 
     # ---- episodes ----
     def _arrays(self) -> tuple:
         return (
             self.lanes, self.cfg, self.obstacles, self.n_obs, self.rng, self.sonar_raw,
-            self.obs_path, self.obs_sonar, self.out,
+            self.obs_path, self.obs_sonar, self.obs_motion, self.out,
         )  # fmt: skip
 
     def _index(self, i: int) -> int:
@@ -201,11 +204,26 @@ class RovBatch:
         i = self._index(i)
         return self.obstacles[i, : self.n_obs[i]].copy()
 
-    def observations(self) -> dict[str, np.ndarray]:
-        """The current observations (copies)."""
+    def _parts(self, path: np.ndarray, sonar: np.ndarray, motion: np.ndarray) -> dict:
+        """The task's observation parts from rows of the given arrays (copies)."""
+        parts = {"path": path.copy()}
         if self.has_sonar:
-            return {"path": self.obs_path.copy(), "sonar": self.obs_sonar.copy()}
-        return {"path": self.obs_path.copy()}
+            parts["sonar"] = sonar.copy()
+        if self.has_motion:
+            parts["motion"] = motion.copy()
+        return parts
+
+    def observations(self) -> dict[str, np.ndarray]:
+        """The current observations (copies), one row per vehicle."""
+        return self._parts(self.obs_path, self.obs_sonar, self.obs_motion)
+
+    def observation(self, i: int) -> dict[str, np.ndarray]:
+        """Vehicle i's current observation (copies)."""
+        return self._parts(self.obs_path[i], self.obs_sonar[i], self.obs_motion[i])
+
+    def terminal_observations(self, rows: np.ndarray) -> dict[str, np.ndarray]:
+        """The final observations of the vehicles ``rows`` reset in the same step (copies)."""
+        return self._parts(self.term_path[rows], self.term_sonar[rows], self.term_motion[rows])
 
     def infos(self) -> dict[str, np.ndarray]:
         """Per-vehicle info arrays (the single env's info keys, batched), views of one copy."""

@@ -45,7 +45,9 @@ class RovEnv(gym.Env):
     """BlueROV2 path following with local path planning (Pan et al. 2025, section 4.2).
 
     ## Description
-    A BlueROV2 (Fossen 6-DOF model, :mod:`rov_envs.physics`) runs at constant depth and follows
+    A BlueROV2 (Fossen 6-DOF model, :mod:`rov_envs.physics`; ``vehicle="uuv_simulator"``, the
+    default, is UUV Simulator's parameter set that the paper ran in Gazebo, ``vehicle="wu2018"``
+    Wu's 2018 set, see ``rov_envs.physics.params``) runs at constant depth and follows
     a path (a 200 m line or a 120 m sinusoid) while avoiding cylindrical obstacles seen by a
     sector sonar. World frame: x along the straight path, y to its left, z up; the heading psi
     is counter-clockwise from x, so turning left raises it. Which path, reward and obstacles a
@@ -66,6 +68,10 @@ class RovEnv(gym.Env):
     * ``"sonar"`` (tasks with obstacles): ``Box(0, 1, (q,), float32)``: the shortest distance
       to an obstacle surface in each of q sectors of the span S centred ahead, ordered from the
       vehicle's right to its left, divided by ``sonar_range`` (1 = nothing within range).
+    * ``"motion"`` (with ``motion_obs=True``, any task): ``Box([-3, -2], [3, 2], (2,), float32)``
+      = [v, r]: the body-frame sway velocity v (m/s, over ground, + = to the left) and yaw rate r
+      (rad/s, + = turning left), as the vehicle's state holds them after the step, clipped to
+      the bounds (``rov_envs.kernel.MOTION_SWAY_LIMIT``, ``MOTION_YAW_RATE_LIMIT``).
 
     ## Rewards
     ``r = r_c + r_v + r_terminal``: eq. (18) (straight paths) or eq. (19) (sine) for r_c,
@@ -86,7 +92,9 @@ class RovEnv(gym.Env):
     ## Arguments
     See :func:`rov_envs.config.make_config`: ``obstacles``, ``current``, ``sonar_noise``,
     ``start_noise``, ``length``, ``amplitude``, ``wavelength``, ``sonar_sectors``,
-    ``sonar_span``, ``sonar_range``, ``continuous``, ``max_episode_seconds``, ``render_mode``.
+    ``sonar_span``, ``sonar_range``, ``continuous``, ``max_episode_seconds``, ``render_mode``,
+    ``success_reward``, ``vehicle`` (``"uuv_simulator"`` or ``"wu2018"``; the env's ``vehicle``
+    attribute says which ran), ``motion_obs``.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
@@ -96,6 +104,8 @@ class RovEnv(gym.Env):
         self.render_mode = self.config.render_mode
         self.observation_space, self.action_space = make_spaces(self.config)
         self.sonar_range = self.config.sonar_range
+        #: the BlueROV2 parameter set this env runs (``rov_envs.physics.params.VEHICLES``)
+        self.vehicle = self.config.vehicle
         self._batch = RovBatch(1, config=self.config)
         self._continuous = self.config.continuous
         self._has_sonar = self.config.has_sonar
@@ -135,10 +145,7 @@ class RovEnv(gym.Env):
 
     # ---- gymnasium API ----
     def _obs(self) -> dict[str, np.ndarray]:
-        b = self._batch
-        if self._has_sonar:
-            return {"path": b.obs_path[0].copy(), "sonar": b.obs_sonar[0].copy()}
-        return {"path": b.obs_path[0].copy()}
+        return self._batch.observation(0)
 
     def _info(self) -> dict[str, Any]:
         o = self._batch.out[:, 0]

@@ -14,7 +14,8 @@ Autoreset modes: ``MODE_PLAIN`` (none: single env, evaluation), ``MODE_NEXT_STEP
 default: a vehicle flagged in ``pending`` is reset instead of stepped, with reward 0 and no
 ending; ``pending`` then flags the vehicles that ended this step) and ``MODE_SAME_STEP`` (SB3:
 a vehicle that ends is reset in the same call, its final observation copied to ``term_path`` /
-``term_sonar`` and its final reward and ending to ``final``, and flagged in ``pending``).
+``term_sonar`` / ``term_motion`` and its final reward and ending to ``final``, and flagged in
+``pending``).
 
 Per-vehicle results live in ``out`` with one row per field (``O_*``), so that each info array the
 environments return is one contiguous row. The step path is compiled with ``_nrt=False``:
@@ -30,9 +31,9 @@ import numpy as np
 from numba import njit, prange
 
 from rov_envs.layouts import draw_layout
+from rov_envs.physics.etd import ETD_SIZE, unpack_coefficients
 from rov_envs.physics.guidance import los_tuple
 from rov_envs.physics.integrator import (
-    DEFAULT_PARAMS,
     LANES,
     ROW_CMD,
     ROW_CURRENT,
@@ -43,10 +44,14 @@ from rov_envs.physics.integrator import (
     ROW_X,
     ROW_Y,
     ROWS,
-    advance_block_default,
+    UUV_SIMULATOR_PARAMS,
+    VEHICLE_UUV_SIMULATOR,
+    VEHICLE_WU2018,
+    WU2018_PARAMS,
+    advance_block_vehicle,
     lane_index,
 )
-from rov_envs.physics.params import P_SIZE, BlueROV2Params
+from rov_envs.physics.params import P_SIZE, VEHICLES, vehicle_code, vehicle_params
 from rov_envs.physics.sonar import _nearest, _scan
 from rov_envs.physics.thrusters import continuous_pair_speeds
 from rov_envs.random_stream import gauss
@@ -88,7 +93,10 @@ C_START_POS_STD = 22  # start-pose perturbation: position std (m)
 C_START_HEAD_STD = 23  # start-pose perturbation: heading std (rad)
 C_CURRENT_X = 24  # world-frame water velocity (m/s)
 C_CURRENT_Y = 25
-C_SIZE = 26
+C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
+C_MOTION = 27  # 1.0 when the observation has a "motion" part
+C_ETD = 28  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
 # so that each info array is one contiguous row) ----
@@ -127,33 +135,45 @@ F_SIZE = 4
 
 #: Largest thruster command of the continuous mapping (rev/min), Table 1's largest.
 _MAX_SPEED = 8000.0
+#: Bounds of the observation's "motion" part (clipped): |sway| in m/s, |yaw rate| in rad/s. Under
+#: Table 1 actions Wu's vehicle reaches 1.6 rad/s and 0.5 m/s of sway (UUV Simulator's 0.28 rad/s,
+#: 0.06 m/s), and the largest current (2 m/s) adds its own sway: |v| <= 2.5 m/s.
+MOTION_SWAY_LIMIT = 3.0
+MOTION_YAW_RATE_LIMIT = 2.0
 
 
 @njit(cache=True, _nrt=False)
-def _compiled_params(out):
-    """Copy the default parameters compiled into this module's cached code into ``out``.
+def _compiled_params(vehicle, out):
+    """Copy the parameters of preset ``vehicle`` compiled into this module's cached code.
 
     Defined here, not in ``integrator``: numba caches each module's code on its own, so only a
     probe cached with the step kernels sees the constants they were compiled with.
     """
-    for k in range(out.shape[0]):
-        out[k] = DEFAULT_PARAMS[k]
+    if vehicle == VEHICLE_UUV_SIMULATOR:
+        for k in range(out.shape[0]):
+            out[k] = UUV_SIMULATOR_PARAMS[k]
+    elif vehicle == VEHICLE_WU2018:
+        for k in range(out.shape[0]):
+            out[k] = WU2018_PARAMS[k]
 
 
 def check_compiled_params() -> None:
-    """Refuse to run when numba's cache holds kernels compiled with other default parameters.
+    """Refuse to run when numba's cache holds kernels compiled with other preset parameters.
 
-    The kernels have ``BlueROV2Params()`` compiled in (``integrator.advance_block_default``);
-    numba's cache does not notice edits to ``rov_envs/physics/params.py``.
+    The kernels have every preset of ``params.VEHICLES`` compiled in
+    (``integrator.advance_block_vehicle``); numba's cache does not notice edits to
+    ``rov_envs/physics/params.py``.
     """
     compiled = np.empty(P_SIZE)
-    _compiled_params(compiled)
-    if not np.array_equal(compiled, BlueROV2Params().to_array()):
-        raise RuntimeError(
-            "rov_envs: numba's cache holds physics compiled with other BlueROV2Params defaults "
-            "(rov_envs/physics/params.py changed); delete the __pycache__ folders under "
-            "rov_envs/ (or set NUMBA_CACHE_DIR to an empty folder) and run again"
-        )
+    for name in VEHICLES:  # a preset without a branch in ``_compiled_params`` stays NaN: refused
+        compiled[:] = np.nan
+        _compiled_params(vehicle_code(name), compiled)
+        if not np.array_equal(compiled, vehicle_params(name).to_array()):
+            raise RuntimeError(
+                f"rov_envs: numba's cache holds physics compiled with other parameters of vehicle "
+                f"{name!r} (rov_envs/physics/params.py changed); delete the __pycache__ folders "
+                "under rov_envs/ (or set NUMBA_CACHE_DIR to an empty folder) and run again"
+            )
 
 
 @njit(cache=True, inline="always")
@@ -163,11 +183,14 @@ def _distance(dx, dy):
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
-    """Guidance, obstacle distance and sonar of vehicle i; fills its observation and ``out``.
+def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out):
+    """Guidance, obstacle distance, sonar and motion of vehicle i; fills its observation and
+    ``out``.
 
     The sonar looks along the heading of the attitude quaternion (the body x axis projected on
-    the horizontal plane); guidance uses the heading row.
+    the horizontal plane); guidance uses the heading row. The motion part is the body-frame sway
+    v (m/s, over ground, as the vehicle's velocity state) and yaw rate r (rad/s), clipped to
+    +-``MOTION_SWAY_LIMIT`` / +-``MOTION_YAW_RATE_LIMIT``.
     """
     o = lane_index(i)
     x = lanes[o + ROW_X * LANES]
@@ -203,6 +226,11 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
                 if sigma > 0.0 and v < rmax:
                     v = min(rmax, max(0.0, v + sigma * gauss(rng, i)))
                 obs_sonar[i, k] = v / rmax
+    v = lanes[o + (ROW_U + 1) * LANES]
+    r = lanes[o + ROW_R * LANES]
+    if cfg[C_MOTION] != 0.0:
+        obs_motion[i, 0] = min(MOTION_SWAY_LIMIT, max(-MOTION_SWAY_LIMIT, v))
+        obs_motion[i, 1] = min(MOTION_YAW_RATE_LIMIT, max(-MOTION_YAW_RATE_LIMIT, r))
     out[O_AC, i] = a_c
     out[O_G, i] = g
     out[O_D, i] = d
@@ -211,8 +239,8 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     out[O_Y, i] = y
     out[O_PSI, i] = psi
     out[O_U, i] = lanes[o + ROW_U * LANES]
-    out[O_V, i] = lanes[o + (ROW_U + 1) * LANES]
-    out[O_YAW_RATE, i] = lanes[o + ROW_R * LANES]
+    out[O_V, i] = v
+    out[O_YAW_RATE, i] = r
 
 
 @njit(cache=True, _nrt=False)
@@ -232,7 +260,9 @@ def place_vehicle(i, lanes, cfg, x, y, psi):
 
 
 @njit(cache=True, _nrt=False)
-def start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def start_episode(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """Vehicle i starts an episode where it stands: clear its counters and observe."""
     o = lane_index(i)
     for k in range(O_SIZE):
@@ -241,11 +271,13 @@ def start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs
         cfg[C_GOALX] - lanes[o + ROW_X * LANES], cfg[C_GOALY] - lanes[o + ROW_Y * LANES]
     )
     out[O_PROG, i] = np.nan  # no warm start: global closest-point search
-    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out)
 
 
 @njit(cache=True, _nrt=False)
-def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_vehicle(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """Draw vehicle i's next episode from its stream (layout, start-pose noise) and start it."""
     kind = int(cfg[C_LAYOUT])
     if kind != 0:
@@ -263,27 +295,39 @@ def reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs
     if cfg[C_START_HEAD_STD] > 0.0:
         psi += cfg[C_START_HEAD_STD] * gauss(rng, i)
     place_vehicle(i, lanes, cfg, x, y, psi)
-    start_episode(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    start_episode(
+        i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+    )
 
 
 @njit(cache=True, _nrt=False)
-def reset_all(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_all(
+    n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """``reset_vehicle`` for vehicles 0..n-1."""
     for i in range(n):
-        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        reset_vehicle(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
 
 
 @njit(parallel=True, cache=True, _nrt=False)
-def reset_all_parallel(n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def reset_all_parallel(
+    n, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """``reset_all`` on numba's threads (a function of its own: see ``step_batch_parallel``)."""
     for i in prange(n):
-        reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        reset_vehicle(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
 
 
 @njit(cache=True, inline="always", _nrt=False)
-def finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out):
+def finish_step(
+    i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+):
     """After the physics: observe vehicle i, then its reward (eq. 17-21) and ending."""
-    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+    observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out)
     a_c = out[O_AC, i]
     g = out[O_G, i]
     d = out[O_D, i]
@@ -335,7 +379,8 @@ def first_bad_action(n, actions, cont, continuous, n_actions):
 @njit(cache=True, _nrt=False)
 def step_block(
     b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """One control step for the vehicles of block b (see the module docstring for ``mode``)."""
     i0 = b * LANES
@@ -354,13 +399,19 @@ def step_block(
             a = actions[i]
             for k in range(6):
                 lanes[c + k * LANES] = table[a, k]
-    advance_block_default(lanes, b, cfg[C_DT], int(cfg[C_NSUB]))
+    coef = unpack_coefficients(cfg, C_ETD)
+    advance_block_vehicle(lanes, b, int(cfg[C_VEHICLE]), coef, cfg[C_DT], int(cfg[C_NSUB]))
     for i in range(i0, i1):
         if mode == MODE_NEXT_STEP and pending[i]:
-            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+            reset_vehicle(
+                i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion,
+                out,
+            )  # fmt: skip
             pending[i] = False
             continue
-        finish_step(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+        finish_step(
+            i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
+        )
         if mode == MODE_PLAIN:
             continue
         done = out[O_TERM, i] != 0.0 or out[O_TRUNC, i] != 0.0
@@ -374,26 +425,34 @@ def step_block(
             term_path[i, 1] = obs_path[i, 1]
             for k in range(obs_sonar.shape[1]):
                 term_sonar[i, k] = obs_sonar[i, k]
-            reset_vehicle(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, out)
+            term_motion[i, 0] = obs_motion[i, 0]
+            term_motion[i, 1] = obs_motion[i, 1]
+            reset_vehicle(
+                i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion,
+                out,
+            )  # fmt: skip
 
 
 @njit(cache=True, _nrt=False)
 def step_batch(
     mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """One control step for N vehicles, blocks one after the other (single env, small N)."""
     for b in range((n + LANES - 1) // LANES):
         step_block(
             b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
-            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+            rng, sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar,
+            term_motion, final,
         )  # fmt: skip
 
 
 @njit(cache=True, parallel=True, _nrt=False)
 def step_batch_parallel(
     mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs, rng,
-    sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+    sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar, term_motion,
+    final,
 ):  # fmt: skip
     """``step_batch`` with the blocks spread over numba's threads (the same numbers).
 
@@ -404,5 +463,6 @@ def step_batch_parallel(
     for b in prange((n + LANES - 1) // LANES):
         step_block(
             b, mode, n, actions, cont, continuous, table, cfg, lanes, obstacles, n_obs,
-            rng, sonar_raw, obs_path, obs_sonar, out, pending, term_path, term_sonar, final,
+            rng, sonar_raw, obs_path, obs_sonar, obs_motion, out, pending, term_path, term_sonar,
+            term_motion, final,
         )  # fmt: skip

@@ -54,6 +54,8 @@ class RovSB3VecEnv(VecEnv):
         self.batch = RovBatch(num_envs, _task_name(task), **kwargs)
         self.render_mode = None
         self.sonar_range = self.batch.config.sonar_range
+        #: the BlueROV2 parameter set these vehicles run (``rov_envs.physics.params.VEHICLES``)
+        self.vehicle = self.batch.config.vehicle
         self.info_keys = tuple(info_keys)
         known = set(self.batch.infos())
         for key in self.info_keys:
@@ -107,15 +109,11 @@ class RovSB3VecEnv(VecEnv):
             success = (final[K.F_END] == END_SUCCESS).tolist()
             returns = self._ep_return[ended].tolist()
             lengths = self._ep_len[ended].tolist()
-            paths = b.term_path[ended]  # copies: the rows below outlive later steps
-            sonars = b.term_sonar[ended] if b.has_sonar else None
+            terminal = b.terminal_observations(ended)  # copies: they outlive later steps
             t = round(time.time() - self._t0, 6)
             for j, i in enumerate(ended.tolist()):
-                terminal = {"path": paths[j]}
-                if sonars is not None:
-                    terminal["sonar"] = sonars[j]
                 infos[i].update(
-                    terminal_observation=terminal,
+                    terminal_observation={k: v[j] for k, v in terminal.items()},
                     is_success=success[j],
                     episode={"r": returns[j], "l": lengths[j], "t": t},
                 )

@@ -73,6 +73,8 @@ class RovVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.render_mode = None
         self.sonar_range = self.batch.config.sonar_range
+        #: the BlueROV2 parameter set these vehicles run (``rov_envs.physics.params.VEHICLES``)
+        self.vehicle = self.batch.config.vehicle
 
     def _with_masks(self, info: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         ones = np.ones(self.num_envs, dtype=bool)  # one mask shared by every always-set key

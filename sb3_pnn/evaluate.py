@@ -5,6 +5,7 @@ Example::
     python -m sb3_pnn.evaluate --model adaptive_pid --env PlanningStraight-v0 --episodes 100
     python -m sb3_pnn.evaluate --model runs/spnn.zip --env rov_envs/PlanningSineDense-v0 \\
         --seed 1000 --out results.json
+    python -m sb3_pnn.evaluate --model adaptive_pid --env PlanningSine-v0 --vehicle wu2018
 
 ``--model`` is a baseline name (``pid``, ``adaptive_pid``) or the path of a model zip saved by
 ``DiscreteSAC.save`` (progressive policies included). Prints a table of the statistics of
@@ -53,6 +54,11 @@ def build_parser() -> argparse.ArgumentParser:
         metavar=("POS_M", "HEAD_DEG"),
         default=(DEFAULT_START_NOISE[0], math.degrees(DEFAULT_START_NOISE[1])),
         help="std of the start position (m) and heading (deg) (default 1 5)",
+    )
+    p.add_argument(
+        "--vehicle",
+        default=None,
+        help="the env's vehicle preset (uuv_simulator, the default, or wu2018)",
     )
     p.add_argument("--record", type=int, default=0, help="keep the first K trajectories")
     p.add_argument("--stochastic", action="store_true", help="sample actions (default: greedy)")
@@ -107,6 +113,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                 n_episodes=args.episodes,
                 seed=args.seed,
                 start_noise=(pos, math.radians(head)),
+                env_kwargs={} if args.vehicle is None else {"vehicle": args.vehicle},
                 record_trajectories=args.record,
                 deterministic=not args.stochastic,
                 policy_name=name,

@@ -133,6 +133,8 @@ class EvaluationResult:
     episodes: list[EpisodeRecord] = field(default_factory=list)
     trajectories: list[Trajectory] = field(default_factory=list)
     wall_time_s: float = 0.0
+    #: the rov_envs vehicle preset that ran (``env.unwrapped.vehicle``; None for other envs)
+    vehicle: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-serialisable dict (tuples become lists)."""
@@ -165,6 +167,7 @@ class EvaluationResult:
         rate = f"{100 * self.success_rate:.1f} % [{100 * lo:.1f}, {100 * hi:.1f}] (95 % Wilson)"
         return [
             ("task", self.env_id),
+            ("vehicle", self.vehicle or "n/a"),
             ("policy", self.policy_name),
             ("episodes (seeds)", f"{self.n_episodes} ({self.seed}..{last})"),
             ("start noise", f"{pos:g} m, {head:g} deg"),
@@ -616,6 +619,7 @@ def evaluate_policy_on_task(
         env_kwargs=env_kwargs,
         deterministic=bool(deterministic),
         wall_time_s=time.perf_counter() - t0,
+        vehicle=getattr(getattr(backend, "config", None), "vehicle", None),
     )
 
 

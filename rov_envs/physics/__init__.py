@@ -1,8 +1,9 @@
 """BlueROV2 physics core (no Gymnasium): Fossen 6-DOF dynamics, thrusters, sonar, LOS guidance.
 
-Modules: ``params`` (BlueROV2Params, calibration), ``thrusters`` (allocation, Table 1),
-``dynamics`` (eq. (1)-(7)), ``integrator`` (RK4, SIMD over blocks of vehicles), ``sonar`` (sector
-sonar), ``guidance`` (LOS, eq. (16)).
+Modules: ``params`` (BlueROV2Params, the two vehicle presets by name, calibration),
+``thrusters`` (allocation, Table 1), ``dynamics`` (eq. (1)-(7)), ``etd`` (one exponential RK4
+step), ``integrator`` (SIMD over blocks of vehicles), ``sonar`` (sector sonar), ``guidance``
+(LOS, eq. (16)).
 """
 
 from rov_envs.physics.dynamics import (
@@ -25,7 +26,7 @@ from rov_envs.physics.guidance import (
     wrap_to_pi,
 )
 from rov_envs.physics.integrator import advance, advance_batch
-from rov_envs.physics.params import BlueROV2Params
+from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES, BlueROV2Params, vehicle_params
 from rov_envs.physics.sonar import nearest_surface_distance, sonar_scan
 from rov_envs.physics.thrusters import ACTION_NAMES, ACTION_TABLE, continuous_to_speeds
 
@@ -36,6 +37,7 @@ __all__ = [
     "DEFAULT_CONTROL_PERIOD",
     "DEFAULT_LOOKAHEAD",
     "DEFAULT_SUBSTEPS",
+    "DEFAULT_VEHICLE",
     "PATH_SINE",
     "PATH_STRAIGHT",
     "SINE_AMPLITUDE",
@@ -43,6 +45,7 @@ __all__ = [
     "SINE_WAVELENGTH",
     "STATE_DIM",
     "STRAIGHT_PATH_LENGTH",
+    "VEHICLES",
     "advance",
     "advance_batch",
     "continuous_to_speeds",
@@ -52,5 +55,6 @@ __all__ = [
     "los_straight",
     "nearest_surface_distance",
     "sonar_scan",
+    "vehicle_params",
     "wrap_to_pi",
 ]

@@ -24,20 +24,22 @@ Equations (``derivative``):
 M^-1 is precomputed in the parameter array (``params.P_MINV``).
 
 Integration: :mod:`rov_envs.physics.integrator` (``advance``, ``advance_batch`` and the SIMD
-block kernel the environments use) runs fixed-step RK4 on ``_rates``, the right-hand side above
-with the attitude carried as a unit quaternion (Fossen 2011 eq. 2.86: the kinematics of eq. (2)
-without trigonometry) and the heading psi integrated beside it. The result converges to the
-Euler-angle ODE of ``derivative`` (tests/physics compare it with scipy's ``solve_ivp`` on an
-independent numpy model).
+block kernel the environments use) runs a fixed-step exponential RK4 (:mod:`rov_envs.physics.etd`,
+the linear damping solved exactly) on ``_rates``, the right-hand side above with the attitude
+carried as a unit quaternion (Fossen 2011 eq. 2.86: the kinematics of eq. (2) without
+trigonometry) and the heading psi integrated beside it. The result converges to the Euler-angle
+ODE of ``derivative`` (tests/physics compare it with scipy's ``solve_ivp`` on an independent
+numpy model, for both presets).
 
-Control period: ``DEFAULT_CONTROL_PERIOD`` = 0.2 s with ``DEFAULT_SUBSTEPS`` = 4 (h = 0.05 s). The
+Control period: ``DEFAULT_CONTROL_PERIOD`` = 0.2 s with ``DEFAULT_SUBSTEPS`` = 4 (h = 0.05 s) for
+both vehicles. UUV Simulator's set: the fast modes are its linear damping (roll 92 1/s, pitch
+25 1/s, yaw 5.5 1/s), integrated exactly; what stays explicit (Coriolis terms ~ turn rate, the
+roll/pitch righting coupling, about 10 rad/s in roll) keeps h |lambda| <= 0.6. Wu's set: the
 stiffest modes are the yaw damping at full turn rate (dN/dr / (I_z + N_rdot) ~ 15 1/s), the
 lightly damped roll/pitch righting oscillation (~4.4 rad/s at cruise for the 0.10 m metacentric
-height) and the sway-yaw divergence (+4 1/s, see ``params``); the thruster lag is integrated
-exactly. h |lambda| <= 0.8 is well inside RK4's stability limit (2.8); over one control period
-the default differs from a 100-substep solution by < 1e-5 m in position, < 2e-4 rad in attitude
-and < 1e-3 m/s in velocity (measured along 100 s of random Table 1 actions with a current), and
-tests/physics/test_integration.py bounds the error after 6 s against ``solve_ivp``.
+height) and the sway-yaw divergence (+4 1/s, see ``params``), h |lambda| <= 0.8, inside RK4's
+stability limit (2.8). The thruster lag is integrated exactly. tests/physics/test_integration.py
+bounds the error of the default against ``solve_ivp`` for both presets.
 
 ``derivative`` is numba-compiled (callable from Python and from other njit code); it checks array
 shapes (ValueError) but not dtypes beyond numba's typing: pass float64 arrays.
@@ -79,9 +81,9 @@ N_THRUSTERS = 6
 DEFAULT_CONTROL_PERIOD = 0.2
 """Seconds between agent decisions (the env's control step)."""
 DEFAULT_SUBSTEPS = 4
-"""RK4 substeps per control period (h = 0.05 s at the default period)."""
+"""Integrator substeps per control period (h = 0.05 s at the default period)."""
 
-# internal RK4 state (``_rates``): 14-tuple (x, y, z, q0, q1, q2, q3, u, v, w, p, q, r, psi);
+# internal integrator state (``_rates``): 14-tuple (x, y, z, q0, q1, q2, q3, u, v, w, p, q, r, psi);
 # the thruster speeds follow their first-order lag exactly (closed form), see ``integrator``.
 
 
@@ -295,42 +297,6 @@ def _rates(y, tau, vcx, vcy, vcz, P):
         d0, d1, d2, d3, d4, d5,
         # psi_dot = (q sin(phi) + r cos(phi)) / cos(theta) = (q r21 + r r22) / cos(theta)^2
         (q * r21 + r * r22) / (r21 * r21 + r22 * r22),
-    )  # fmt: skip
-
-
-@njit(cache=True, inline="always")
-def _axpy(y, k, a):
-    """y + a k for 14-tuples."""
-    return (
-        y[0] + a * k[0], y[1] + a * k[1], y[2] + a * k[2], y[3] + a * k[3], y[4] + a * k[4],
-        y[5] + a * k[5], y[6] + a * k[6], y[7] + a * k[7], y[8] + a * k[8], y[9] + a * k[9],
-        y[10] + a * k[10], y[11] + a * k[11], y[12] + a * k[12], y[13] + a * k[13],
-    )  # fmt: skip
-
-
-@njit(cache=True, inline="always")
-def _rk4_step(y, k1, k2, k3, k4, h6):
-    """y + h/6 (k1 + 2 k2 + 2 k3 + k4), quaternion renormalised."""
-    o = (
-        y[0] + h6 * (k1[0] + 2.0 * (k2[0] + k3[0]) + k4[0]),
-        y[1] + h6 * (k1[1] + 2.0 * (k2[1] + k3[1]) + k4[1]),
-        y[2] + h6 * (k1[2] + 2.0 * (k2[2] + k3[2]) + k4[2]),
-        y[3] + h6 * (k1[3] + 2.0 * (k2[3] + k3[3]) + k4[3]),
-        y[4] + h6 * (k1[4] + 2.0 * (k2[4] + k3[4]) + k4[4]),
-        y[5] + h6 * (k1[5] + 2.0 * (k2[5] + k3[5]) + k4[5]),
-        y[6] + h6 * (k1[6] + 2.0 * (k2[6] + k3[6]) + k4[6]),
-        y[7] + h6 * (k1[7] + 2.0 * (k2[7] + k3[7]) + k4[7]),
-        y[8] + h6 * (k1[8] + 2.0 * (k2[8] + k3[8]) + k4[8]),
-        y[9] + h6 * (k1[9] + 2.0 * (k2[9] + k3[9]) + k4[9]),
-        y[10] + h6 * (k1[10] + 2.0 * (k2[10] + k3[10]) + k4[10]),
-        y[11] + h6 * (k1[11] + 2.0 * (k2[11] + k3[11]) + k4[11]),
-        y[12] + h6 * (k1[12] + 2.0 * (k2[12] + k3[12]) + k4[12]),
-        y[13] + h6 * (k1[13] + 2.0 * (k2[13] + k3[13]) + k4[13]),
-    )
-    qn = 1.0 / math.sqrt(o[3] * o[3] + o[4] * o[4] + o[5] * o[5] + o[6] * o[6])
-    return (
-        o[0], o[1], o[2], o[3] * qn, o[4] * qn, o[5] * qn, o[6] * qn,
-        o[7], o[8], o[9], o[10], o[11], o[12], o[13],
     )  # fmt: skip
 
 

@@ -19,16 +19,22 @@ right, and vice versa. It is then quantised to the discrete action space of Tabl
     turn_thresholds[0] <= |u| < thresholds[1]  -> 0 Turn left 1  / 3 Turn right 1
     |u| >= turn_thresholds[1]                  -> 1 Turn left 2  / 4 Turn right 2
 
-(measured steady yaw rates of the simulated BlueROV2: Turn 1 about 1.0 rad/s, Turn 2 about
-1.4 rad/s, reached within about 0.4 s). With ``continuous=True`` the action is ``(surge, yaw) =
-(1, clip(u / yaw_rate_full, -1, 1))``: (1, 0) is exactly Go straight and (1, +-1) gives the thrust
-of Turn left 2 / Turn right 2 (see ``rov_envs.physics.thrusters.continuous_to_speeds``).
+With ``continuous=True`` the action is ``(surge, yaw) = (1, clip(u / yaw_rate_full, -1, 1))``:
+(1, 0) is exactly Go straight and (1, +-1) gives the thrust of Turn left 2 / Turn right 2 (see
+``rov_envs.physics.thrusters.continuous_to_speeds``).
 
-Default gains (tuned on PathFollowingStraight-v0 / PathFollowingSine-v0 with 1 m / 5 deg start
-noise, see the module tests and ``python -m sb3_pnn.evaluate --model pid``): ``kp = 1.5`` /s,
-``ki = 0.05`` /s^2, ``kd = 0.6`` (s/s), thresholds ``(0.4, 1.5)`` rad/s, ``integral_limit = 0.5``
-rad s, and for continuous actions ``yaw_rate_full = 0.7`` rad/s (mean |a_c| 0.08 rad on
-PathFollowingSine-v0 against 0.37 rad with 1.4).
+Gains that depend on the vehicle (:data:`VEHICLE_GAINS`, picked by :meth:`PIDController.for_env`
+from the env's ``vehicle``; the constructor's defaults are those of the environments' default
+vehicle, ``"uuv_simulator"``): the turn thresholds and ``yaw_rate_full`` follow how fast Table 1
+turns the vehicle. UUV Simulator's BlueROV2 turns at about 0.16 / 0.27 rad/s (Turn 1 / Turn 2):
+thresholds ``(0.05, 0.15)`` rad/s, ``yaw_rate_full = 0.3`` rad/s (on PathFollowingSine-v0, 50
+episodes from seed 1000: mean |g| 0.11 m against 0.49 m with (0.2, 0.6) and 1.04 m with Wu's
+thresholds; continuous mean |a_c| 0.013 rad against 0.031 rad with 0.7). Wu's set pivots at
+about 1.0 / 1.4 rad/s: thresholds ``(0.4, 1.5)`` rad/s, ``yaw_rate_full = 0.7`` rad/s (mean |a_c|
+0.08 rad on PathFollowingSine-v0 against 0.37 rad with 1.4). The rest is shared (tuned on
+PathFollowingStraight-v0 / PathFollowingSine-v0 with 1 m / 5 deg start noise, see the module
+tests and ``python -m sb3_pnn.evaluate --model pid``): ``kp = 1.5`` /s, ``ki = 0.05`` /s^2,
+``kd = 0.6`` (s/s), ``integral_limit = 0.5`` rad s.
 """
 
 from __future__ import annotations
@@ -42,6 +48,13 @@ import numpy as np
 DEFAULT_DT = 0.2
 #: Table 1 action indices.
 TURN_LEFT_1, TURN_LEFT_2, GO_STRAIGHT, TURN_RIGHT_1, TURN_RIGHT_2 = 0, 1, 2, 3, 4
+#: The environments' default vehicle (``rov_envs.physics.params.DEFAULT_VEHICLE``).
+DEFAULT_VEHICLE = "uuv_simulator"
+#: The gains that depend on the vehicle preset (module docstring), by the env's ``vehicle``.
+VEHICLE_GAINS: dict[str, dict[str, Any]] = {
+    "uuv_simulator": {"turn_thresholds": (0.05, 0.15), "yaw_rate_full": 0.3},
+    "wu2018": {"turn_thresholds": (0.4, 1.5), "yaw_rate_full": 0.7},
+}
 
 # memory columns shared by every controller
 _M_INTEGRAL = 0
@@ -74,9 +87,11 @@ class PIDController:
             derivative (-).
         dt: control period (s) used by the integral and derivative terms (env default 0.2 s).
         continuous: emit (surge, yaw) actions for ``continuous=True`` envs instead of Discrete(5).
-        turn_thresholds: ``(t1, t2)`` in rad/s: the |u| at which Turn 1 and Turn 2 are chosen.
+        turn_thresholds: ``(t1, t2)`` in rad/s: the |u| at which Turn 1 and Turn 2 are chosen
+            (default: the default vehicle's, :data:`VEHICLE_GAINS`).
         integral_limit: anti-windup clamp of the integral (rad s).
-        yaw_rate_full: the |u| (rad/s) mapped to yaw = +-1 in continuous mode.
+        yaw_rate_full: the |u| (rad/s) mapped to yaw = +-1 in continuous mode (default: the
+            default vehicle's).
 
     ``predict`` keeps one row of memory per environment (integral, previous error, ...). It is
     reset for the rows where ``episode_start`` is True, by :meth:`reset`, or when the batch size
@@ -85,6 +100,8 @@ class PIDController:
 
     #: Columns of memory per environment.
     memory_size = 3
+    #: Vehicle-dependent constructor arguments, by the env's ``vehicle`` (module docstring).
+    vehicle_gains: dict[str, dict[str, Any]] = VEHICLE_GAINS
 
     def __init__(
         self,
@@ -93,9 +110,9 @@ class PIDController:
         kd: float = 0.6,
         dt: float = DEFAULT_DT,
         continuous: bool = False,
-        turn_thresholds: tuple[float, float] = (0.4, 1.5),
+        turn_thresholds: tuple[float, float] = VEHICLE_GAINS[DEFAULT_VEHICLE]["turn_thresholds"],
         integral_limit: float = 0.5,
-        yaw_rate_full: float = 0.7,
+        yaw_rate_full: float = VEHICLE_GAINS[DEFAULT_VEHICLE]["yaw_rate_full"],
     ) -> None:
         self.kp = _positive("kp", kp)
         self.ki = _positive("ki", ki)
@@ -138,9 +155,20 @@ class PIDController:
 
     @classmethod
     def env_settings(cls, env: Any) -> dict[str, Any]:
-        """The settings this controller reads from an rov_envs env (``dt``, ``continuous``)."""
+        """The settings this controller reads from an rov_envs env: ``dt``, ``continuous`` and
+        the gains of its ``vehicle`` (:attr:`vehicle_gains`)."""
         config = cls.env_config(env)
-        return {"dt": float(config.dt), "continuous": bool(config.continuous)}
+        vehicle = getattr(config, "vehicle", DEFAULT_VEHICLE)
+        if vehicle not in cls.vehicle_gains:
+            raise ValueError(
+                f"vehicle={vehicle!r} is not allowed: {cls.__name__} has gains for "
+                f"{sorted(cls.vehicle_gains)}"
+            )
+        return {
+            "dt": float(config.dt),
+            "continuous": bool(config.continuous),
+            **cls.vehicle_gains[vehicle],
+        }
 
     @classmethod
     def for_env(cls, env: Any, **overrides: Any) -> PIDController:

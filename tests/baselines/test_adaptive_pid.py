@@ -26,8 +26,9 @@ def test_without_obstacles_it_is_the_plain_pid():
     a_c = rng.uniform(-0.9, 0.9, size=(20, 1)).astype(np.float32)
     path = np.concatenate([a_c, np.zeros_like(a_c)], axis=1)
     obs = {"path": path, "sonar": np.ones((20, 9), dtype=np.float32)}
-    a1, _ = AdaptivePIDController().predict(obs)
-    a2, _ = PIDController().predict({"path": path})
+    ctrl = AdaptivePIDController()
+    a1, _ = ctrl.predict(obs)
+    a2, _ = PIDController(turn_thresholds=ctrl.turn_thresholds).predict({"path": path})
     np.testing.assert_array_equal(a1, a2)
 
 
@@ -75,9 +76,26 @@ def test_adaptive_pid_completes_planning_straight_where_the_pid_collides():
     assert pid.successes == 0 and pid.collisions == 5
 
 
-def test_adaptive_pid_completes_planning_sine():
-    res = evaluate_policy_on_task("adaptive_pid", "PlanningSine-v0", n_episodes=5, seed=0)
-    assert res.successes == 5
+@pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
+def test_adaptive_pid_completes_planning_sine(vehicle):
+    res = evaluate_policy_on_task(
+        "adaptive_pid", "PlanningSine-v0", n_episodes=5, seed=0, env_kwargs={"vehicle": vehicle}
+    )
+    assert res.successes == 5 and res.vehicle == vehicle
+
+
+@pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
+def test_gains_follow_the_vehicle(vehicle):
+    import gymnasium as gym
+
+    from sb3_pnn.baselines.adaptive_pid import VEHICLE_GAINS
+
+    ctrl = AdaptivePIDController.for_env(gym.make("rov_envs/PlanningSine-v0", vehicle=vehicle))
+    for name, value in VEHICLE_GAINS[vehicle].items():
+        assert getattr(ctrl, name) == value
+    # the constructor's defaults are the default vehicle's
+    default = AdaptivePIDController()
+    assert (default.trigger_distance, default.clearance) == (18.0, 4.5)
 
 
 def test_usable_with_sb3_evaluate_policy_on_the_batched_vec_env():

@@ -10,6 +10,7 @@ import pytest
 
 import rov_envs  # noqa: F401
 from sb3_pnn.baselines import PIDController, make_baseline
+from sb3_pnn.baselines.pid import VEHICLE_GAINS
 from sb3_pnn.evaluation import evaluate_policy_on_task
 
 
@@ -81,13 +82,37 @@ def test_for_env_reads_the_control_period_and_action_type():
     assert make_baseline("pid", env=env, kp=3.0).kp == 3.0
 
 
-def test_pid_follows_the_straight_line_within_the_bound():
+@pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
+def test_for_env_picks_the_vehicles_gains(vehicle):
+    env = gym.make("rov_envs/PathFollowingSine-v0", vehicle=vehicle)
+    ctrl = PIDController.for_env(env)
+    for name, value in VEHICLE_GAINS[vehicle].items():
+        assert getattr(ctrl, name) == value
+    assert make_baseline("pid", env=env, turn_thresholds=(1.0, 2.0)).turn_thresholds == (1.0, 2.0)
+    default = PIDController()  # the default vehicle's gains
+    assert default.turn_thresholds == VEHICLE_GAINS["uuv_simulator"]["turn_thresholds"]
+
+
+def test_for_env_refuses_a_vehicle_without_gains():
+    config = gym.make("rov_envs/PathFollowingSine-v0").unwrapped.config
+    config = type(config)(**{**config.__dict__, "vehicle": "nautilus"})
+    with pytest.raises(ValueError, match="vehicle='nautilus' is not allowed"):
+        PIDController.for_env(config)
+
+
+@pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
+def test_pid_follows_the_straight_line_within_the_bound(vehicle):
     """Stated bound: with 1 m / 5 deg start noise the PID completes every episode, never leaves
     4 m of the line, and once settled (t >= 30 s) stays within 0.5 m of it."""
     res = evaluate_policy_on_task(
-        "pid", "PathFollowingStraight-v0", n_episodes=5, seed=0, record_trajectories=5
+        "pid",
+        "PathFollowingStraight-v0",
+        n_episodes=5,
+        seed=0,
+        record_trajectories=5,
+        env_kwargs={"vehicle": vehicle},
     )
-    assert res.successes == 5
+    assert res.successes == 5 and res.vehicle == vehicle
     assert res.max_abs_cross_track < 4.0
     for tr in res.trajectories:
         t = np.asarray(tr.t)

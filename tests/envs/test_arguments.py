@@ -37,6 +37,8 @@ BAD = [
     ("render_mode", "ansi"),
     ("success_reward", -1.0),
     ("success_reward", "big"),
+    ("vehicle", "bluerov"),
+    ("motion_obs", 1),
     ("colour", "red"),
 ]
 

@@ -52,21 +52,22 @@ def _lockstep(venv, singles: dict, steps: int, continuous: bool = False, seed: i
 
 
 @pytest.mark.parametrize(
-    ("env_id", "continuous"),
+    ("env_id", "continuous", "vehicle"),
     [
-        ("rov_envs/PlanningSineDense-v0", False),
-        ("rov_envs/ObstacleAvoidance-v0", False),
-        ("rov_envs/PlanningStraight-v0", True),
-        ("rov_envs/PathFollowingSine-v0", False),
+        ("rov_envs/PlanningSineDense-v0", False, "uuv_simulator"),
+        ("rov_envs/ObstacleAvoidance-v0", False, "uuv_simulator"),
+        ("rov_envs/PlanningStraight-v0", True, "uuv_simulator"),
+        ("rov_envs/PathFollowingSine-v0", False, "uuv_simulator"),
+        ("rov_envs/PlanningSine-v0", False, "wu2018"),
+        ("rov_envs/PathFollowingStraight-v0", True, "wu2018"),
     ],
 )
-def test_batched_equals_single(env_id: str, continuous: bool) -> None:
+def test_batched_equals_single(env_id: str, continuous: bool, vehicle: str) -> None:
     n = 3
-    venv = gym.make_vec(
-        env_id, num_envs=n, vectorization_mode="vector_entry_point", continuous=continuous, **KW
-    )
-    assert isinstance(venv, RovVectorEnv)
-    singles = {i: gym.make(env_id, continuous=continuous, **KW) for i in range(n)}
+    kw = {**KW, "continuous": continuous, "vehicle": vehicle}
+    venv = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point", **kw)
+    assert isinstance(venv, RovVectorEnv) and venv.vehicle == vehicle
+    singles = {i: gym.make(env_id, **kw) for i in range(n)}
     vobs, _ = venv.reset(seed=7)
     for i, env in singles.items():
         obs, _ = env.reset(seed=7 + i)

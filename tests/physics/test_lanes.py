@@ -11,8 +11,11 @@ from rov_envs import kernel as K
 from rov_envs.physics import ACTION_TABLE, BlueROV2Params
 from rov_envs.physics import integrator as I  # noqa: E741
 from rov_envs.physics.integrator import advance
+from rov_envs.physics.params import VEHICLES, vehicle_code, vehicle_params
 
-P = BlueROV2Params().to_array()
+P = vehicle_params("uuv_simulator").to_array()
+UUV = vehicle_code("uuv_simulator")
+UUV_COEF = I.vehicle_coefficients(UUV, 0.2, 4)
 
 
 def _fleet(n: int, seed: int = 0) -> np.ndarray:
@@ -30,15 +33,32 @@ def _fleet(n: int, seed: int = 0) -> np.ndarray:
     return buf
 
 
+@pytest.mark.parametrize("vehicle", VEHICLES)
 @pytest.mark.parametrize("n", [1, 16, 37])
-def test_default_parameter_kernel_equals_runtime_parameters(n: int) -> None:
+def test_preset_kernels_equal_runtime_parameters(vehicle: str, n: int) -> None:
+    p = vehicle_params(vehicle).to_array()
+    code = vehicle_code(vehicle)
+    coef = I.vehicle_coefficients(code, 0.2, 4)
     a = _fleet(n)
     b = a.copy()
     for _ in range(30):
         for blk in range(a.size // I.BLOCK):
-            I.advance_block(a, blk, P, 0.2, 4)
-            I.advance_block_default(b, blk, 0.2, 4)
+            I.advance_block(a, blk, p, 0.2, 4)
+            I.advance_block_vehicle(b, blk, code, coef, 0.2, 4)
     assert np.array_equal(a, b)  # the constant-folded variant changes no finite result
+    assert np.all(np.isfinite(a))
+
+
+def test_preset_kernels_differ_and_refuse_unknown_codes() -> None:
+    a = _fleet(16)
+    b = a.copy()
+    for code, buf in enumerate((a, b)):
+        I.advance_block_vehicle(buf, 0, code, I.vehicle_coefficients(code, 0.2, 4), 0.2, 4)
+    assert not np.array_equal(a, b)
+    with pytest.raises(ValueError, match="unknown vehicle code"):
+        I.vehicle_coefficients(len(VEHICLES), 0.2, 4)
+    with pytest.raises(ValueError, match="unknown vehicle code"):
+        I.advance_block_vehicle(a, 0, len(VEHICLES), UUV_COEF, 0.2, 4)
 
 
 def test_parallel_equals_serial() -> None:
@@ -65,8 +85,8 @@ def test_a_vehicle_does_not_depend_on_its_block_mates() -> None:
     alone_rows = alone.reshape(I.ROWS, I.LANES)
     full_rows[:, 5] = alone_rows[:, 0]  # identical start, bit for bit
     for _ in range(25):
-        I.advance_block_default(full, 0, 0.2, 4)
-        I.advance_block_default(alone, 0, 0.2, 4)
+        I.advance_block_vehicle(full, 0, UUV, UUV_COEF, 0.2, 4)
+        I.advance_block_vehicle(alone, 0, UUV, UUV_COEF, 0.2, 4)
     assert np.array_equal(full_rows[:, 5], alone_rows[:, 0])
 
 
@@ -92,11 +112,28 @@ def test_advance_batch_rows_equal_advance() -> None:
     assert np.array_equal(states, single)
 
 
-def test_stale_compiled_parameters_are_refused(monkeypatch: pytest.MonkeyPatch) -> None:
-    K.check_compiled_params()  # the compiled-in values are today's defaults
-    heavier = BlueROV2Params(mass=12.0)
-    monkeypatch.setattr(K, "BlueROV2Params", lambda: heavier)
-    with pytest.raises(RuntimeError, match="__pycache__"):
+@pytest.mark.parametrize("vehicle", VEHICLES)
+def test_stale_compiled_parameters_are_refused(
+    monkeypatch: pytest.MonkeyPatch, vehicle: str
+) -> None:
+    K.check_compiled_params()  # the compiled-in values are today's presets
+    presets = {name: vehicle_params(name) for name in VEHICLES}
+    presets[vehicle] = presets[vehicle].replace(mass=12.0)
+    monkeypatch.setattr(K, "vehicle_params", presets.__getitem__)
+    with pytest.raises(RuntimeError, match=f"vehicle {vehicle!r}.*__pycache__"):
+        K.check_compiled_params()
+
+
+def test_a_preset_without_compiled_code_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    names = (*VEHICLES, "new_vehicle")  # a preset added to params but not to the kernels
+    monkeypatch.setattr(K, "VEHICLES", names)
+    monkeypatch.setattr(K, "vehicle_code", names.index)
+    monkeypatch.setattr(
+        K,
+        "vehicle_params",
+        lambda name: BlueROV2Params() if name == names[-1] else vehicle_params(name),
+    )
+    with pytest.raises(RuntimeError, match="new_vehicle"):
         K.check_compiled_params()
 
 

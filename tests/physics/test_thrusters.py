@@ -7,8 +7,17 @@ import math
 import numpy as np
 import pytest
 
-from rov_envs.physics import ACTION_TABLE, BlueROV2Params, continuous_to_speeds
-from rov_envs.physics.params import P_ALLOC, P_MINV, THRUST_COEFFICIENT
+from rov_envs.physics import ACTION_TABLE, continuous_to_speeds
+from rov_envs.physics.params import (
+    P_ALLOC,
+    P_LDIAG,
+    P_MINV,
+    UUV_SIMULATOR_THRUST_COEFFICIENT,
+    VEHICLES,
+    WU2018_THRUST_COEFFICIENT,
+    thrust_coefficient_for_speed,
+    vehicle_params,
+)
 from rov_envs.physics.thrusters import (
     ACTION_NAMES,
     allocation_matrix,
@@ -23,11 +32,23 @@ def wrench(speeds):
     return T @ thrust_from_speeds(speeds)
 
 
-def test_calibrated_thrust_coefficient():
-    # 4.03 u + 18.18 u|u| = X at u = 1 m/s: X = 22.21 N = 4 cos(45 deg) k 8000^2
-    assert THRUST_COEFFICIENT == pytest.approx(22.21 / (4 * math.cos(math.pi / 4) * 8000.0**2))
-    assert THRUST_COEFFICIENT == pytest.approx(1.2269e-7, rel=1e-4)
-    assert wrench(ACTION_TABLE[2])[0] == pytest.approx(22.21)
+def test_calibrated_thrust_coefficients():
+    # UUV Simulator: 11.7391 u = X at u = 1 m/s: X = 11.7391 N = 4 cos(45 deg) k 8000^2
+    c = 4 * math.cos(math.pi / 4) * 8000.0**2
+    assert UUV_SIMULATOR_THRUST_COEFFICIENT == pytest.approx(11.7391 / c)
+    assert UUV_SIMULATOR_THRUST_COEFFICIENT == pytest.approx(6.4850e-8, rel=1e-4)
+    assert wrench(ACTION_TABLE[2])[0] == pytest.approx(11.7391)  # default vehicle: UUV
+    # Wu: 4.03 u + 18.18 u|u| = X at u = 1 m/s: X = 22.21 N
+    assert WU2018_THRUST_COEFFICIENT == pytest.approx(22.21 / c)
+    assert WU2018_THRUST_COEFFICIENT == pytest.approx(1.2269e-7, rel=1e-4)
+    wu = vehicle_params("wu2018")
+    assert (T @ thrust_from_speeds(ACTION_TABLE[2], wu))[0] == pytest.approx(22.21)
+    # another speed: k scales with the surge force the damping needs there
+    assert thrust_coefficient_for_speed(x_u=4.03, x_uu=18.18, speed=0.5) == pytest.approx(
+        (4.03 * 0.5 + 18.18 * 0.25) / c
+    )
+    with pytest.raises(ValueError, match="x_u"):
+        thrust_coefficient_for_speed(x_u=0.0, x_uu=0.0)
 
 
 def test_allocation_rows_from_the_poses():
@@ -52,14 +73,18 @@ def test_go_straight_is_pure_surge_and_turns_yaw_the_right_way():
     assert not ACTION_TABLE.flags.writeable
 
 
-def test_packed_array_layout():
-    prm = BlueROV2Params()
+@pytest.mark.parametrize("vehicle", VEHICLES)
+def test_packed_array_layout(vehicle):
+    prm = vehicle_params(vehicle)
     a = prm.to_array()
-    np.testing.assert_allclose(a[P_ALLOC : P_ALLOC + 36].reshape(6, 6), T)
+    np.testing.assert_allclose(a[P_ALLOC : P_ALLOC + 36].reshape(6, 6), T)  # same thrusters
     minv = a[P_MINV : P_MINV + 36].reshape(6, 6)
     np.testing.assert_allclose(minv @ prm.mass_matrix(), np.eye(6), atol=1e-12)
-    assert prm.metacentric_height == pytest.approx(0.10)
-    assert prm.weight == prm.buoyancy and BlueROV2Params.wu2018().buoyancy == 114.8
+    np.testing.assert_allclose(
+        a[P_LDIAG : P_LDIAG + 6], np.diag(minv @ np.diag(prm.linear_damping)), rtol=1e-14
+    )
+    assert prm.metacentric_height == pytest.approx(0.30 if vehicle == "uuv_simulator" else 0.10)
+    assert prm.weight == prm.buoyancy
 
 
 def test_continuous_mapping():
