@@ -19,6 +19,10 @@ from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
 
 #: Control period (s): one environment step, the physics' default (0.2 s, 4 ETDRK4 substeps).
 CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
+#: Shortest and longest control periods accepted (s) (``control_period``).
+CONTROL_PERIOD_RANGE = (0.05, 1.0)
+#: Longest integrator substep (s): the physics' default, 0.2 s in 4 substeps.
+MAX_SUBSTEP = DEFAULT_CONTROL_PERIOD / 4
 #: Reference speed (m/s) for the default time limit and the progress reward.
 U_REF = 1.0
 #: Default time limit = TIME_LIMIT_FACTOR * (path arc length / U_REF).
@@ -92,6 +96,12 @@ class EnvConfig:
     dt: float = CONTROL_PERIOD
     vehicle: str = DEFAULT_VEHICLE
     motion_obs: bool = False
+    progress_weighted: bool = False
+
+    @property
+    def n_substeps(self) -> int:
+        """Integrator substeps per control period: the fewest with h <= ``MAX_SUBSTEP`` s."""
+        return max(1, int(math.ceil(self.dt / MAX_SUBSTEP - 1e-9)))
 
     @property
     def path_length(self) -> float:
@@ -169,6 +179,12 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
             ``"uuv_simulator"`` (default, the paper's Gazebo model) or ``"wu2018"`` (Wu 2018).
         motion_obs: add a ``"motion"`` part to the observation: (sway v in m/s, yaw rate r in
             rad/s) in the body frame, clipped to (+-3 m/s, +-2 rad/s) (default False).
+        control_period: seconds per environment step, in [0.05, 1] (default ``CONTROL_PERIOD``,
+            0.2 s); the physics takes as many substeps as keep each at most 0.05 s.
+        progress_weighted: pay r_c of eq. 18/19 (when positive) in proportion to the step's
+            progress along the path, as a fraction of 1 m/s (default False; not in the paper,
+            see :mod:`rov_envs.rewards`): without it, staying near the path pays as much as
+            following it, and stopping short of an obstacle beats passing it.
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -190,6 +206,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "success_reward",
         "vehicle",
         "motion_obs",
+        "control_period",
+        "progress_weighted",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -250,6 +268,17 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     )
     if success_reward < 0:
         raise _bad("success_reward", success_reward, "a finite float >= 0")
+    lo, hi = CONTROL_PERIOD_RANGE
+    dt = _finite_float(
+        "control_period",
+        kwargs.get("control_period", CONTROL_PERIOD),
+        f"a float in [{lo}, {hi}] (s)",
+    )
+    if not lo <= dt <= hi:
+        raise _bad("control_period", dt, f"a float in [{lo}, {hi}] (s)")
+    progress_weighted = kwargs.get("progress_weighted", False)
+    if not isinstance(progress_weighted, (bool, np.bool_)):
+        raise _bad("progress_weighted", progress_weighted, "True or False")
     vehicle = kwargs.get("vehicle", DEFAULT_VEHICLE)
     if not isinstance(vehicle, str) or vehicle not in VEHICLES:
         raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
@@ -271,6 +300,8 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         success_reward=success_reward,
         vehicle=vehicle,
         motion_obs=bool(motion_obs),
+        dt=dt,
+        progress_weighted=bool(progress_weighted),
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -14,7 +14,6 @@ import numpy as np
 from rov_envs import kernel as K
 from rov_envs.config import TARGET_RADIUS, U_REF, EnvConfig
 from rov_envs.layouts import LAYOUT_CODES, LAYOUT_FIXED, max_obstacles
-from rov_envs.physics.dynamics import DEFAULT_SUBSTEPS
 from rov_envs.physics.etd import ETD_SIZE
 from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.integrator import vehicle_coefficients
@@ -57,12 +56,13 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_RANGE] = config.sonar_range
     c[K.C_NOISE] = config.sonar_noise
     c[K.C_DT] = config.dt
-    c[K.C_NSUB] = DEFAULT_SUBSTEPS
+    c[K.C_NSUB] = config.n_substeps
     c[K.C_MAXSTEPS] = config.max_steps
     c[K.C_LOOKAHEAD] = DEFAULT_LOOKAHEAD
     c[K.C_GOALX], c[K.C_GOALY] = config.target
     c[K.C_SONAR] = 1.0 if config.has_sonar else 0.0
     c[K.C_MOTION] = 1.0 if config.motion_obs else 0.0
+    c[K.C_PROGRESS_W] = 1.0 if config.progress_weighted else 0.0
     c[K.C_TARGET_R] = TARGET_RADIUS
     c[K.C_SUCCESS_R] = config.success_reward
     c[K.C_UREF] = U_REF
@@ -72,6 +72,6 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_START_POS_STD], c[K.C_START_HEAD_STD] = config.start_noise
     c[K.C_CURRENT_X], c[K.C_CURRENT_Y] = config.current
     c[K.C_VEHICLE] = vehicle_code(config.vehicle)
-    coefficients = vehicle_coefficients(int(c[K.C_VEHICLE]), config.dt, DEFAULT_SUBSTEPS)
+    coefficients = vehicle_coefficients(int(c[K.C_VEHICLE]), config.dt, config.n_substeps)
     c[K.C_ETD : K.C_ETD + ETD_SIZE] = np.ravel(coefficients)
     return c

@@ -95,7 +95,8 @@ C_CURRENT_X = 24  # world-frame water velocity (m/s)
 C_CURRENT_Y = 25
 C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
 C_MOTION = 27  # 1.0 when the observation has a "motion" part
-C_ETD = 28  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_PROGRESS_W = 28  # 1.0: r_c (eq. 18/19) paid in proportion to progress along the path
+C_ETD = 29  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
@@ -327,6 +328,8 @@ def finish_step(
     i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out
 ):
     """After the physics: observe vehicle i, then its reward (eq. 17-21) and ending."""
+    x_prev = out[O_X, i]
+    y_prev = out[O_Y, i]
     observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out)
     a_c = out[O_AC, i]
     g = out[O_G, i]
@@ -334,12 +337,17 @@ def finish_step(
     d_L = cfg[C_DL]
     kind = cfg[C_REWARD]
     dist_goal = _distance(cfg[C_GOALX] - out[O_X, i], cfg[C_GOALY] - out[O_Y, i])
-    if kind == 0.0:
-        r_c = reward_straight(a_c, g, d_L)
-    elif kind == 1.0:
-        r_c = reward_sine(a_c, g, d_L)
-    else:
+    if kind == 2.0:
         r_c = (out[O_PREV_GOAL, i] - dist_goal) / (cfg[C_UREF] * cfg[C_DT])
+    else:
+        if kind == 0.0:
+            r_c = reward_straight(a_c, g, d_L)
+        else:
+            r_c = reward_sine(a_c, g, d_L)
+        if cfg[C_PROGRESS_W] != 0.0 and r_c > 0.0:
+            dx = out[O_X, i] - x_prev
+            dy = out[O_Y, i] - y_prev
+            r_c *= progress_fraction(cfg, out[O_PROG, i], dx, dy)
     out[O_PREV_GOAL, i] = dist_goal
     r_v = reward_obstacle(d)
     code = failure_code(a_c, g, d, d_L)
@@ -362,6 +370,22 @@ def finish_step(
     out[O_END, i] = code
     out[O_TERM, i] = 1.0 if (code != END_NONE and code != END_TIME_LIMIT) else 0.0
     out[O_TRUNC, i] = trunc
+
+
+@njit(cache=True, inline="always")
+def progress_fraction(cfg, x_path, dx, dy):
+    """The step's displacement along the path's tangent at ``x_path``, as a fraction of
+    ``U_REF * dt`` clipped to [0, 1] (``progress_weighted=True``; not in the paper)."""
+    tx = 1.0
+    ty = 0.0
+    if cfg[C_PATH] == 1.0:
+        k = 2.0 * math.pi / cfg[C_WAVE]
+        ty = cfg[C_AMP] * k * math.cos(k * x_path)
+        norm = math.sqrt(1.0 + ty * ty)
+        tx = 1.0 / norm
+        ty = ty / norm
+    p = (dx * tx + dy * ty) / (cfg[C_UREF] * cfg[C_DT])
+    return min(1.0, max(0.0, p))
 
 
 @njit(cache=True, _nrt=False)

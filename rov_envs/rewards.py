@@ -12,6 +12,12 @@ The reward of a step is ``r = r_c + r_v + r_terminal`` (eq. 17 plus eq. 21):
 * ``r_c`` (ObstacleAvoidance, not in the paper): progress toward the goal,
   ``(D_{t-1} - D_t) / (U_REF * dt)`` with D the straight-line distance to the goal: about +1 per
   step when heading to the goal at 1 m/s, the same scale as the path terms above.
+* ``r_c`` with ``progress_weighted=True`` (NOT in the paper; default off): a positive eq. 18/19
+  value is multiplied by the step's advance along the path tangent as a fraction of
+  ``U_REF * dt``, clipped to [0, 1] (negative values are paid in full). Eq. 18 pays about +1 per
+  step near the path whether the vehicle advances or not; on the planning tasks, where passing an
+  obstacle costs eq. 20 penalties, agents then learned to stop short of the obstacles and wait
+  for the time limit (measured with DiscreteSAC on PlanningStraight, episodes 100-200).
 * ``r_v`` (eq. 20): -2 when ``5 < d <= 8``, -4 when ``2 < d <= 5``, else 0, where ``d`` is the
   noise-free distance from the vehicle's centre to the nearest obstacle SURFACE (centre distance
   minus radius): the paper's obstacles are cylinders and its collision test ``d <= 2`` only makes

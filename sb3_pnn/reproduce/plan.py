@@ -23,6 +23,8 @@ import json
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
+from sb3_pnn.reproduce.setups import SETUPS, TrainingSetup
+
 #: The source tasks of the prior columns.
 PRIOR_ENVS: dict[str, str] = {
     "pf_straight": "rov_envs/PathFollowingStraight-v0",
@@ -72,12 +74,6 @@ PAPER_TRAJECTORY_EPISODES: dict[str, tuple[int, ...]] = {
     "sine": (0, 80, 140, 180, 220, 400),
 }
 
-#: DiscreteSAC settings of every run: the paper's Tables 2-3 (DiscreteSAC's defaults) except
-#: ``learning_starts``: SB3 acts uniformly at random for the first ``learning_starts`` steps,
-#: which would hide exactly what transfer buys at the start of training (Figure 10); one batch
-#: (256 steps) of experience before the first update, for all agents alike.
-SAC_KWARGS: dict[str, Any] = {"learning_starts": 256}
-
 
 @dataclass(frozen=True)
 class Budget:
@@ -96,11 +92,12 @@ class Budget:
     trace_episodes: int = 1
 
 
-#: Full study: 5 seeds; meant to take at most one hour on an idle 2-core machine (measured times:
-#: README.md, "Measured figures"; the report gives wall and CPU time of every run).
+#: Full study: 5 seeds, the paper's training budgets on the planning tasks (Figures 10 and 14:
+#: about 300 episodes on the straight line, 400 on the sinusoid). The report gives the wall and
+#: CPU time of every run (README.md, "Reproduction status", gives the measured total).
 FULL = Budget(
-    prior_episodes={"pf_straight": 150, "pf_sine": 150, "oa": 200},
-    transfer_episodes={"straight": 150, "sine": 150},
+    prior_episodes={"pf_straight": 150, "pf_sine": 150, "oa": 300},
+    transfer_episodes={"straight": 300, "sine": 400},
     eval_episodes=50,
 )
 #: ``--quick``: a smoke test of the whole study, meant to take at most five minutes on 2 cores.
@@ -118,6 +115,14 @@ TINY = Budget(
 BUDGETS: dict[str, Budget] = {"full": FULL, "quick": QUICK, "tiny": TINY}
 
 
+def check_budget_and_seeds(budget_name: str, budgets: dict[str, Any], seeds: Any) -> None:
+    """Refuse an unknown budget name or a seed count that is not an integer >= 1."""
+    if budget_name not in budgets:
+        raise ValueError(f"budget {budget_name!r} is unknown; expected one of {sorted(budgets)}")
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
+        raise ValueError(f"seeds={seeds!r} is not allowed: expected an integer >= 1")
+
+
 @dataclass(frozen=True)
 class StudyConfig:
     """What ``python -m sb3_pnn.reproduce`` was asked for (see :func:`build_plan`)."""
@@ -129,14 +134,10 @@ class StudyConfig:
     prior_per_seed: bool = False
     paths: tuple[str, ...] = ("straight", "sine")
     agents: tuple[str, ...] = tuple(AGENTS)
+    setup_name: str = "ours"
 
     def __post_init__(self) -> None:
-        if self.budget_name not in BUDGETS:
-            raise ValueError(
-                f"budget {self.budget_name!r} is unknown; expected one of {sorted(BUDGETS)}"
-            )
-        if isinstance(self.seeds, bool) or not isinstance(self.seeds, int) or self.seeds < 1:
-            raise ValueError(f"seeds={self.seeds!r} is not allowed: expected an integer >= 1")
+        check_budget_and_seeds(self.budget_name, BUDGETS, self.seeds)
         for name in ("episodes", "eval_episodes"):
             value = getattr(self, name)
             if value is not None and (
@@ -148,9 +149,17 @@ class StudyConfig:
                 raise ValueError(
                     f"path {path!r} is unknown; expected one of {sorted(PLANNING_ENVS)}"
                 )
+        if self.setup_name not in SETUPS:
+            raise ValueError(
+                f"setup {self.setup_name!r} is unknown; expected one of {sorted(SETUPS)}"
+            )
         for agent in self.agents:
             if agent not in AGENTS:
                 raise ValueError(f"agent {agent!r} is unknown; expected one of {sorted(AGENTS)}")
+
+    @property
+    def setup(self) -> TrainingSetup:
+        return SETUPS[self.setup_name]
 
     @property
     def budget(self) -> Budget:
@@ -185,6 +194,7 @@ class RunSpec:
     eval_episodes: int = 0
     trace_episodes: int = 0
     sac_kwargs: dict[str, Any] = field(default_factory=dict)
+    env_kwargs: dict[str, Any] = field(default_factory=dict)  # the training environment's
 
     def to_dict(self) -> dict[str, Any]:
         return json.loads(json.dumps(asdict(self)))
@@ -207,9 +217,37 @@ def prior_run_id(name: str, seed: int) -> str:
     return f"prior-{name}-s{seed}"
 
 
+def with_env_kwargs(
+    tasks: tuple[tuple[str, str, dict[str, Any]], ...], env_kwargs: dict[str, Any]
+) -> tuple[tuple[str, str, dict[str, Any]], ...]:
+    """Evaluation tasks with a set-up's environment kwargs added (the task's own win)."""
+    return tuple((label, env_id, {**env_kwargs, **kwargs}) for label, env_id, kwargs in tasks)
+
+
+def prior_run(
+    name: str, seed: int, episodes: int, setup: TrainingSetup, eval_episodes: int, run_id: str
+) -> RunSpec:
+    """A source column's run: DiscreteSAC on its task, evaluated there under start noise."""
+    env_id = PRIOR_ENVS[name]
+    return RunSpec(
+        run_id=run_id,
+        kind="prior",
+        agent="dsac",
+        path=None,
+        env_id=env_id,
+        seed=seed,
+        episodes=episodes,
+        eval_tasks=(("own", env_id, setup.env_kwargs()),),
+        eval_episodes=eval_episodes,
+        sac_kwargs=setup.sac_kwargs(),
+        env_kwargs=setup.train_env_kwargs(),
+    )
+
+
 def build_plan(config: StudyConfig) -> list[RunSpec]:
     """All runs of a study, priors first (a run's ``deps`` always come earlier in the list)."""
     budget = config.budget
+    setup = config.setup
     prior_seeds = range(config.seeds) if config.prior_per_seed else range(1)
     needed: set[str] = set()
     for path in config.paths:
@@ -217,18 +255,16 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
             needed.update(t.format(path=path) for t in AGENTS[agent])
     runs: list[RunSpec] = []
     for seed in prior_seeds:
-        for name, env_id in PRIOR_ENVS.items():
+        for name in PRIOR_ENVS:
             if name in needed:
                 runs.append(
-                    RunSpec(
-                        run_id=prior_run_id(name, seed),
-                        kind="prior",
-                        agent="dsac",
-                        path=None,
-                        env_id=env_id,
-                        seed=seed,
-                        episodes=budget.prior_episodes[name],
-                        sac_kwargs=dict(SAC_KWARGS),
+                    prior_run(
+                        name,
+                        seed,
+                        budget.prior_episodes[name],
+                        setup,
+                        budget.eval_episodes,
+                        prior_run_id(name, seed),
                     )
                 )
     # baselines next (cheap, no dependencies), then the learners seed by seed, so that an
@@ -244,7 +280,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                     env_id=PLANNING_ENVS[path],
                     seed=0,
                     episodes=0,
-                    eval_tasks=EVAL_TASKS[path],
+                    eval_tasks=with_env_kwargs(EVAL_TASKS[path], setup.env_kwargs()),
                     eval_episodes=budget.eval_episodes,
                     trace_episodes=budget.trace_episodes,
                 )
@@ -269,10 +305,11 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         episodes=episodes,
                         deps=deps,
                         record_episodes=record,
-                        eval_tasks=EVAL_TASKS[path],
+                        eval_tasks=with_env_kwargs(EVAL_TASKS[path], setup.env_kwargs()),
                         eval_episodes=budget.eval_episodes,
                         trace_episodes=budget.trace_episodes,
-                        sac_kwargs=dict(SAC_KWARGS),
+                        sac_kwargs=setup.sac_kwargs(),
+                        env_kwargs=setup.train_env_kwargs(),
                     )
                 )
     return runs

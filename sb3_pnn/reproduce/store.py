@@ -50,6 +50,19 @@ def write_text_atomic(path: Path | str, text: str) -> None:
     os.replace(tmp, path)
 
 
+def open_store_or_exit(parser: Any, out: Path) -> RunStore:
+    """Open (and lock) the output folder ``out`` of a command line, or exit through
+    ``parser.error`` with a one-line message (status 2)."""
+    if out.exists() and not out.is_dir():
+        parser.error(f"--out {os.fspath(out)!r} exists and is not a folder")
+    store = RunStore(out)
+    try:
+        store.open()
+    except (PermissionError, RuntimeError) as error:
+        parser.error(str(error))
+    return store
+
+
 def _json_default(value: Any) -> Any:
     if hasattr(value, "tolist"):
         return value.tolist()

@@ -8,7 +8,7 @@ It writes into the run's temporary folder:
 * ``episodes.json``: per training episode return, length, success and end reason
   (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
   training episodes (key ``ep_<index>``, arrays (T, 2));
-* ``eval.json``: for ``transfer`` and ``baseline`` runs, one
+* ``eval.json``: for every run with evaluation tasks (all of them in the study), one
   :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
   ``eval_episodes`` episodes with seeds ``EVAL_SEED + i`` (the same episodes for every policy)
   and the evaluation library's default start-pose noise.
@@ -40,18 +40,25 @@ def build_model(spec: RunSpec, deps: dict[str, Path]) -> Any:
 
     if spec.env_id is None:
         raise ValueError(f"run {spec.run_id!r} has no environment")
-    env = gym.make(spec.env_id)
+    env = gym.make(spec.env_id, **spec.env_kwargs)
     priors = [str(deps[d] / "model.zip") for d in spec.deps]
-    common: dict[str, Any] = dict(seed=spec.seed, verbose=0, device="cpu", **spec.sac_kwargs)
+    sac_kwargs = dict(spec.sac_kwargs)
+    if "train_freq" in sac_kwargs:  # JSON holds the (frequency, unit) pair as a list
+        sac_kwargs["train_freq"] = tuple(sac_kwargs["train_freq"])
+    policy_kwargs = dict(sac_kwargs.pop("policy_kwargs", None) or {})
+    common: dict[str, Any] = dict(seed=spec.seed, verbose=0, device="cpu", **sac_kwargs)
     if spec.agent in ("dsac", "sac_single"):
-        return DiscreteSAC("MultiInputPolicy", env, **common)
+        return DiscreteSAC("MultiInputPolicy", env, policy_kwargs=policy_kwargs, **common)
     if spec.agent == "sac_multi":
-        return make_sac_multi(priors[0], env, **common)
+        # the networks are the prior's (make_sac_multi refuses a net_arch of its own)
+        policy_kwargs.pop("net_arch", None)
+        return make_sac_multi(priors[0], env, policy_kwargs=policy_kwargs, **common)
     if spec.agent == "pnn":
-        return DiscreteSAC(ProgressivePolicy, env, policy_kwargs={"priors": priors}, **common)
+        policy_kwargs["priors"] = priors
+        return DiscreteSAC(ProgressivePolicy, env, policy_kwargs=policy_kwargs, **common)
     if spec.agent == "spnn":
-        kwargs = {"priors": priors, "sonar_range": float(env.unwrapped.sonar_range)}
-        return DiscreteSAC(SelectivePolicy, env, policy_kwargs=kwargs, **common)
+        policy_kwargs.update(priors=priors, sonar_range=float(env.unwrapped.sonar_range))
+        return DiscreteSAC(SelectivePolicy, env, policy_kwargs=policy_kwargs, **common)
     raise ValueError(f"agent {spec.agent!r} of run {spec.run_id!r} is unknown")
 
 
@@ -112,6 +119,6 @@ def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
         return info
     model, train_info = train(spec, tmp, deps)
     info.update(train_info)
-    if spec.kind == "transfer":
+    if spec.eval_tasks:
         info.update(evaluate(spec, model, tmp))
     return info

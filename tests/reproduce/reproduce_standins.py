@@ -80,7 +80,11 @@ def fake_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]
         rate = 0.9 if spec.agent == "spnn" else 0.6
         evals = {label: _fake_eval(spec, label, rate) for label, _, _ in spec.eval_tasks}
         (tmp / "eval.json").write_text(json.dumps(evals))
-    return {"kind": spec.kind, "agent": spec.agent, "pid_of_worker": os.getpid()}
+    info: dict[str, Any] = {"kind": spec.kind, "agent": spec.agent, "pid_of_worker": os.getpid()}
+    if spec.kind != "baseline":
+        info["train_s"] = 60.0 * (1 + spec.seed)  # what run_work reports, in seconds
+        info["first_success"] = successes.index(True) if True in successes else None
+    return info
 
 
 def failing_prior_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:

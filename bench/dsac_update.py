@@ -1,0 +1,102 @@
+"""Cost of one DiscreteSAC gradient step, beside SB3 DQN's on the same networks (the anchor).
+
+Prints milliseconds per gradient step (CPU time, one torch thread) for DiscreteSAC with plain
+columns and with the SPNN's three columns, and for SB3's DQN (one Q-network and its target, the
+cheapest off-policy update SB3 ships), on PlanningStraight-v0's observation, batch 256, and the
+ratio DiscreteSAC / DQN. Timings alternate between the learners, ``--repeats`` rounds, and the
+median round is kept, so that other load on the machine affects all of them alike.
+
+Usage: python bench/dsac_update.py [--nets 64,64 255,255] [--updates 200] [--repeats 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import torch as th
+from stable_baselines3 import DQN
+
+import rov_envs  # noqa: F401 - registers the tasks
+from sb3_pnn import DiscreteSAC, SelectivePolicy
+
+ENV = "rov_envs/PlanningStraight-v0"
+ENV_KWARGS = {"motion_obs": True}
+
+
+def _filled(model, steps: int):
+    model.learn(steps)
+    return model
+
+
+def _cost(model, updates: int, batch: int) -> float:
+    start = time.process_time()
+    model.train(updates, batch)
+    return (time.process_time() - start) / updates * 1e3
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--nets", nargs="+", default=["64,64", "255,255"])
+    parser.add_argument("--updates", type=int, default=200)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--batch", type=int, default=256)
+    args = parser.parse_args()
+    th.set_num_threads(1)
+    env = gym.make(ENV, **ENV_KWARGS)
+    sac_kw = dict(learning_starts=0, gradient_steps=0, device="cpu", seed=0, buffer_size=20_000)
+    with tempfile.TemporaryDirectory() as tmp:
+        for net in args.nets:
+            arch = [int(w) for w in net.split(",")]
+            prior_paths = []
+            for task in ("PathFollowingStraight", "ObstacleAvoidance"):
+                prior = DiscreteSAC(
+                    "MultiInputPolicy",
+                    gym.make(f"rov_envs/{task}-v0", **ENV_KWARGS),
+                    policy_kwargs={"net_arch": arch},
+                    device="cpu",
+                )
+                prior_paths.append(str(Path(tmp) / f"{task}.zip"))
+                prior.save(prior_paths[-1])
+            learners = {
+                "DQN (anchor)": DQN(
+                    "MultiInputPolicy",
+                    env,
+                    policy_kwargs={"net_arch": arch},
+                    learning_starts=0,
+                    train_freq=1,
+                    gradient_steps=0,
+                    device="cpu",
+                    seed=0,
+                    buffer_size=20_000,
+                ),
+                "DiscreteSAC": DiscreteSAC(
+                    "MultiInputPolicy", env, policy_kwargs={"net_arch": arch}, **sac_kw
+                ),
+                "DiscreteSAC + SPNN": DiscreteSAC(
+                    SelectivePolicy,
+                    env,
+                    policy_kwargs={"net_arch": arch, "priors": prior_paths},
+                    **sac_kw,
+                ),
+            }
+            for model in learners.values():
+                _filled(model, 2 * args.batch)
+                _cost(model, 10, args.batch)  # warm-up
+            rounds = {name: [] for name in learners}
+            for _ in range(args.repeats):
+                for name, model in learners.items():
+                    rounds[name].append(_cost(model, args.updates, args.batch))
+            anchor = statistics.median(rounds["DQN (anchor)"])
+            print(f"networks {arch}, batch {args.batch}, one torch thread (median of rounds):")
+            for name, values in rounds.items():
+                ms = statistics.median(values)
+                print(f"  {name:<20} {ms:7.2f} ms per gradient step  ({ms / anchor:4.2f}x DQN)")
+
+
+if __name__ == "__main__":
+    main()

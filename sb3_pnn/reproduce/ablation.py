@@ -1,0 +1,193 @@
+"""The training set-up's ablation: which departures from the paper make the agents learn.
+
+A cell is one :class:`~sb3_pnn.reproduce.setups.TrainingSetup`. The cells are
+
+* ``paper`` (the paper read literally, :data:`~sb3_pnn.reproduce.setups.PAPER`) and
+  ``paper+<factor>=<value>``: one factor changed at a time from it;
+* ``ours`` (the study's default, :data:`~sb3_pnn.reproduce.setups.OURS`) and
+  ``ours+<factor>=<value>``: one factor put back (or changed) at a time from it, plus
+  ``ours+prior_budget=0.5``: half the source columns' episodes.
+
+Every cell is trained on each task of :data:`TASKS` with ``--seeds`` seeds: DiscreteSAC on the
+three source tasks, and SPNN (eq. 15) on PlanningStraight from that cell's own seed-0
+path-following and obstacle-avoidance runs. Each run ends with ``eval_episodes`` evaluation
+episodes on its own task under the evaluation library's start noise (seeds apart from the
+training seeds). The runs go through the study's executor and store (:mod:`.executor`,
+:mod:`.store`): parallel, resumable, one folder per run. :mod:`.ablation_report` writes the table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from sb3_pnn.reproduce.plan import PRIOR_ENVS, RunSpec, check_budget_and_seeds, prior_run
+from sb3_pnn.reproduce.setups import FACTOR_LABELS, OURS, PAPER, TrainingSetup, describe_value
+
+#: Ablation tasks: name -> (environment id, agent, names of the tasks that give its priors).
+TASKS: dict[str, tuple[str, str, tuple[str, ...]]] = {
+    "pf_straight": (PRIOR_ENVS["pf_straight"], "dsac", ()),
+    "pf_sine": (PRIOR_ENVS["pf_sine"], "dsac", ()),
+    "oa": (PRIOR_ENVS["oa"], "dsac", ()),
+    "planning_straight": ("rov_envs/PlanningStraight-v0", "spnn", ("pf_straight", "oa")),
+}
+TASK_LABELS: dict[str, str] = {
+    "pf_straight": "PathFollowingStraight",
+    "pf_sine": "PathFollowingSine",
+    "oa": "ObstacleAvoidance",
+    "planning_straight": "PlanningStraight (SPNN)",
+}
+#: Values tried per factor besides PAPER's and OURS' (the issue's "1 per k steps", Wu's vehicle).
+EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
+    "vehicle": ("wu2018",),
+    "updates": ("step:4",),
+}
+#: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
+REDUCED_PRIOR_SHARE = 0.5
+
+
+@dataclass(frozen=True)
+class AblationBudget:
+    """Training episodes per task, and evaluation episodes per run."""
+
+    episodes: dict[str, int]
+    eval_episodes: int
+
+
+#: PlanningStraight gets the paper's budget for it (Figure 10: about 300 episodes).
+BUDGETS: dict[str, AblationBudget] = {
+    "full": AblationBudget(
+        {"pf_straight": 150, "pf_sine": 150, "oa": 300, "planning_straight": 300}, 50
+    ),
+    "quick": AblationBudget(
+        {"pf_straight": 20, "pf_sine": 20, "oa": 20, "planning_straight": 20}, 10
+    ),
+    "tiny": AblationBudget({"pf_straight": 2, "pf_sine": 2, "oa": 2, "planning_straight": 2}, 2),
+}
+
+
+@dataclass(frozen=True)
+class AblationCell:
+    """One set-up to train, and the share of the budget its source columns get."""
+
+    name: str
+    setup: TrainingSetup
+    prior_share: float = 1.0
+
+    def describe(self) -> str:
+        """The cell in words: its base set-up and what it changes there."""
+        base_name = "paper" if self.name.startswith("paper") else "ours"
+        base = PAPER if base_name == "paper" else OURS
+        diff = self.setup.differences(base)
+        text = ", ".join(f"{FACTOR_LABELS[k]} {describe_value(k, v)}" for k, v in diff.items())
+        if self.prior_share != 1.0:
+            text = f"priors trained for {self.prior_share:g} of their budget"
+        return f"{base_name} with {text}" if text else f"{base_name} (see the set-up table)"
+
+
+def _token(name: str, value: Any) -> str:
+    """A factor value as a run-id-safe word."""
+    if name == "net_arch":
+        return "x".join(str(w) for w in value)
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def _factor_values(name: str) -> list[Any]:
+    values: list[Any] = []
+    for value in (getattr(PAPER, name), getattr(OURS, name), *EXTRA_VALUES.get(name, ())):
+        if value not in values:
+            values.append(value)
+    return values
+
+
+def all_cells() -> list[AblationCell]:
+    """Every cell, in report order (see the module docstring)."""
+    cells = [AblationCell("paper", PAPER)]
+    names = list(PAPER.to_dict())
+    for base_name, base in (("paper", PAPER), ("ours", OURS)):
+        if base_name == "ours":
+            cells.append(AblationCell("ours", OURS))
+        for name in names:
+            for value in _factor_values(name):
+                if value != getattr(base, name):
+                    label = f"{base_name}+{name}={_token(name, value)}"
+                    cells.append(AblationCell(label, base.with_(**{name: value})))
+    cells.append(AblationCell(f"ours+prior_budget={REDUCED_PRIOR_SHARE:g}", OURS, 0.5))
+    return cells
+
+
+CELLS: dict[str, AblationCell] = {cell.name: cell for cell in all_cells()}
+
+
+@dataclass(frozen=True)
+class AblationConfig:
+    """What ``python -m sb3_pnn.reproduce --ablation`` was asked for."""
+
+    budget_name: str = "full"
+    seeds: int = 3
+    cells: tuple[str, ...] = tuple(CELLS)
+    tasks: tuple[str, ...] = tuple(TASKS)
+
+    def __post_init__(self) -> None:
+        check_budget_and_seeds(self.budget_name, BUDGETS, self.seeds)
+        for kind, given, known in (("cell", self.cells, CELLS), ("task", self.tasks, TASKS)):
+            if not given:
+                raise ValueError(f"no {kind} chosen: expected some of {list(known)}")
+            for name in given:
+                if name not in known:
+                    raise ValueError(f"{kind} {name!r} is unknown; expected one of {list(known)}")
+
+    @property
+    def budget(self) -> AblationBudget:
+        return BUDGETS[self.budget_name]
+
+
+def run_id(cell: str, task: str, seed: int) -> str:
+    return f"{cell}-{task}-s{seed}"
+
+
+def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
+    """All runs, each after the runs it needs (a planning run needs its cell's seed-0 priors)."""
+    budget = config.budget
+    runs: dict[str, RunSpec] = {}
+
+    def add_single(cell: AblationCell, task: str, seed: int, share: float) -> str:
+        rid = run_id(cell.name, task if share == 1.0 else f"{task}_prior", seed)
+        if rid not in runs:
+            episodes = max(1, round(budget.episodes[task] * share))
+            runs[rid] = prior_run(task, seed, episodes, cell.setup, budget.eval_episodes, rid)
+        return rid
+
+    for name in config.cells:
+        cell = CELLS[name]
+        for task in config.tasks:
+            env_id, agent, prior_tasks = TASKS[task]
+            for seed in range(config.seeds):
+                if agent == "dsac":
+                    if cell.prior_share == 1.0:  # else the cell is the same set-up as another
+                        add_single(cell, task, seed, 1.0)
+                    continue
+                deps = tuple(add_single(cell, t, 0, cell.prior_share) for t in prior_tasks)
+                setup = cell.setup
+                rid = run_id(name, task, seed)
+                runs[rid] = RunSpec(
+                    run_id=rid,
+                    kind="transfer",
+                    agent=agent,
+                    path="straight",
+                    env_id=env_id,
+                    seed=seed,
+                    episodes=budget.episodes[task],
+                    deps=deps,
+                    eval_tasks=(("own", env_id, setup.env_kwargs()),),
+                    eval_episodes=budget.eval_episodes,
+                    sac_kwargs=setup.sac_kwargs(),
+                    env_kwargs=setup.train_env_kwargs(),
+                )
+    plan = list(runs.values())
+    # priors first (a run's deps always come earlier), then seed by seed
+    return sorted(plan, key=lambda spec: (bool(spec.deps), spec.seed))

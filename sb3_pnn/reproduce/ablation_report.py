@@ -1,0 +1,137 @@
+"""The ablation's table (``report.md``): success under start noise, learning speed, cost per cell.
+
+For every (cell, task) with finished runs the table gives
+
+* success: evaluation successes pooled over the seeds, ``k/n``, with a 95 % Wilson interval
+  (episodes of one seed are not independent of each other, so the interval is narrower than one
+  over seeds would be; the per-seed rates are listed for that reason);
+* first success: the training episode of the first success, median over the seeds that had one,
+  and how many seeds had one within the budget;
+* time: mean training wall time per run (minutes), on the machine and ``--jobs`` given.
+"""
+
+from __future__ import annotations
+
+import statistics
+from collections.abc import Sequence
+from typing import Any
+
+from sb3_pnn.evaluation import wilson_interval
+from sb3_pnn.reproduce.ablation import CELLS, TASK_LABELS, TASKS, AblationConfig, run_id
+from sb3_pnn.reproduce.results import StudyResults
+from sb3_pnn.reproduce.setups import FACTOR_LABELS, OURS, PAPER, describe_value
+
+
+def cell_task_summary(
+    results: StudyResults, cell: str, task: str, seeds: int
+) -> dict[str, Any] | None:
+    """Pooled figures of one table entry, or None when no run of it has finished."""
+    finished = [
+        results.runs[rid]
+        for rid in (run_id(cell, task, s) for s in range(seeds))
+        if rid in results.runs
+    ]
+    if not finished:
+        return None
+    successes = n = 0
+    rates: list[float] = []
+    firsts: list[int | None] = []
+    minutes: list[float] = []
+    for run in finished:
+        own = run.evals["own"]
+        successes += int(own["successes"])
+        n += int(own["n_episodes"])
+        rates.append(float(own["success_rate"]))
+        firsts.append(run.manifest.get("first_success"))
+        minutes.append(float(run.manifest.get("train_s", 0.0)) / 60.0)
+    reached = [f for f in firsts if f is not None]
+    return {
+        "runs": len(finished),
+        "successes": successes,
+        "n": n,
+        "ci95": wilson_interval(successes, n),
+        "rates": rates,
+        "first_median": statistics.median(reached) if reached else None,
+        "first_reached": len(reached),
+        "train_min": sum(minutes) / len(minutes),
+    }
+
+
+def _entry(summary: dict[str, Any] | None, seeds: int) -> str:
+    if summary is None:
+        return "not run"
+    lo, hi = summary["ci95"]
+    rate = summary["successes"] / summary["n"]
+    per_seed = "/".join(f"{r * 100:.0f}" for r in summary["rates"])
+    first = summary["first_median"]
+    first_text = "none" if first is None else f"{first:.0f}"
+    partial = "" if summary["runs"] == seeds else f" ({summary['runs']}/{seeds} runs)"
+    return (
+        f"{rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] ({per_seed}); first {first_text} "
+        f"({summary['first_reached']}/{summary['runs']}); {summary['train_min']:.1f} min"
+        f"{partial}"
+    )
+
+
+def _setup_rows() -> list[str]:
+    rows = ["| factor | paper | ours |", "|---|---|---|"]
+    paper, ours = PAPER.to_dict(), OURS.to_dict()
+    for name, label in FACTOR_LABELS.items():
+        rows.append(
+            f"| {label} | {describe_value(name, paper[name])} | "
+            f"{describe_value(name, ours[name])} |"
+        )
+    return rows
+
+
+def render_report(
+    results: StudyResults, config: AblationConfig, command: str, sessions: Sequence[dict]
+) -> str:
+    """The whole report.md text."""
+    budget = config.budget
+    tasks = [t for t in TASKS if t in config.tasks]
+    lines = [
+        "# Training set-up ablation",
+        "",
+        f"Made by: `{command}`",
+        "",
+        f"Budget `{config.budget_name}`: training episodes "
+        + ", ".join(f"{TASK_LABELS[t]} {budget.episodes[t]}" for t in tasks)
+        + f"; {budget.eval_episodes} evaluation episodes per run on its own task with the "
+        "evaluation library's start noise (1 m, 5 deg; evaluation seeds 10000+, apart from the "
+        f"training seeds 0..{config.seeds - 1}). PlanningStraight is learned by SPNN from the "
+        "cell's own seed-0 PathFollowingStraight and ObstacleAvoidance runs.",
+        "",
+        "Each entry: evaluation success pooled over seeds [95 % Wilson interval] (per-seed "
+        "rates); training episode of the first success, median over the seeds that had one "
+        "(seeds with one / runs); mean training wall time per run.",
+        "",
+        "## The two set-ups",
+        "",
+        *_setup_rows(),
+        "",
+        "## Results",
+        "",
+        "| cell | set-up | " + " | ".join(TASK_LABELS[t] for t in tasks) + " |",
+        "|---|---|" + "---|" * len(tasks),
+    ]
+    for name in config.cells:
+        cell = CELLS[name]
+        entries = []
+        for task in tasks:
+            if TASKS[task][1] == "dsac" and cell.prior_share != 1.0:
+                entries.append("as ours")
+                continue
+            entries.append(
+                _entry(cell_task_summary(results, name, task, config.seeds), config.seeds)
+            )
+        lines.append(f"| `{name}` | {cell.describe()} | " + " | ".join(entries) + " |")
+    wall = sum(float(s.get("wall_s", 0.0)) for s in sessions)
+    jobs = sorted({int(s.get("jobs", 0)) for s in sessions})
+    lines += [
+        "",
+        f"Runs finished: {len(results.runs)}; not finished or not run: {len(results.missing)}; "
+        f"failed: {len(results.failures)}. Wall clock of the sessions that made them: "
+        f"{wall / 60:.0f} min (--jobs {', '.join(map(str, jobs)) or '-'}).",
+    ]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,108 @@
+"""The ablation: one factor per cell, each planning run on its own cell's priors, the table."""
+
+from __future__ import annotations
+
+import pytest
+from reproduce_standins import fake_work
+
+from sb3_pnn.reproduce.ablation import (
+    CELLS,
+    TASKS,
+    AblationConfig,
+    all_cells,
+    build_ablation_plan,
+    run_id,
+)
+from sb3_pnn.reproduce.cli import main
+from sb3_pnn.reproduce.setups import OURS, PAPER, TrainingSetup, parse_updates
+
+
+def test_each_cell_changes_one_factor_of_its_base() -> None:
+    cells = all_cells()
+    assert cells[0].setup == PAPER and CELLS["ours"].setup == OURS
+    for cell in cells:
+        base = PAPER if cell.name.startswith("paper") else OURS
+        changed = cell.setup.differences(base)
+        if cell.name in ("paper", "ours") or cell.prior_share != 1.0:
+            assert changed == {}
+        else:
+            factor = cell.name.split("+")[1].split("=")[0]
+            assert list(changed) == [factor], cell.name
+    # every departure of OURS is tried alone on the paper and put back alone in ours
+    for factor in OURS.differences(PAPER):
+        assert any(c.name.startswith(f"paper+{factor}=") for c in cells)
+        assert any(c.name.startswith(f"ours+{factor}=") for c in cells)
+    # the issue's factors: the vehicle, and 1 update per k steps
+    assert CELLS["paper+vehicle=wu2018"].setup.vehicle == "wu2018"
+    assert parse_updates(CELLS["ours+updates=step:4"].setup.updates) == ((4, "step"), 1)
+
+
+def test_plan_priors_per_cell_and_before_use() -> None:
+    config = AblationConfig("quick", seeds=3, cells=("paper", "ours+prior_budget=0.5"))
+    plan = build_ablation_plan(config)
+    ids = [spec.run_id for spec in plan]
+    assert len(ids) == len(set(ids))
+    by_id = {spec.run_id: spec for spec in plan}
+    for spec in plan:
+        assert all(ids.index(d) < ids.index(spec.run_id) for d in spec.deps)
+    spnn = by_id[run_id("paper", "planning_straight", 2)]
+    assert spnn.agent == "spnn"
+    assert spnn.deps == (run_id("paper", "pf_straight", 0), run_id("paper", "oa", 0))
+    assert spnn.env_kwargs["start_noise"] == [0.0, 0.0]  # the paper trains from the exact pose
+    assert spnn.sac_kwargs["policy_kwargs"] == {"net_arch": [255, 255]}
+    # half-budget priors are runs of their own; the cell has no single-task rows of its own
+    half = by_id[run_id("ours+prior_budget=0.5", "planning_straight", 0)]
+    for dep in half.deps:
+        assert by_id[dep].episodes == round(config.budget.episodes[dep.split("-")[1][:-6]] * 0.5)
+    assert run_id("ours+prior_budget=0.5", "oa", 1) not in by_id
+    assert by_id[run_id("paper", "oa", 1)].episodes == config.budget.episodes["oa"]
+    # evaluation on the run's own task, with the cell's environment (no training start noise)
+    oa = by_id[run_id("paper", "oa", 1)]
+    assert oa.eval_tasks == (("own", TASKS["oa"][0], PAPER.env_kwargs()),)
+
+
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [({"seeds": 0}, "seeds=0"), ({"cells": ("papr",)}, "cell 'papr' is unknown"),
+     ({"tasks": ()}, "no task chosen"), ({"budget_name": "huge"}, "budget 'huge'")],
+)  # fmt: skip
+def test_bad_config_refused(bad, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        AblationConfig(**bad)
+
+
+def test_bad_setup_refused() -> None:
+    with pytest.raises(ValueError, match="updates='step:0'"):
+        TrainingSetup(updates="step:0")
+    with pytest.raises(ValueError, match="net_arch"):
+        TrainingSetup(net_arch=())
+
+
+def test_cli_unknown_cell_one_line(capsys, tmp_path) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["--ablation", "--cells", "paper,ourz", "--out", str(tmp_path)])
+    assert exc.value.code == 2
+    assert "cell 'ourz' is unknown; expected some of paper," in capsys.readouterr().err
+
+
+def test_stand_in_ablation_report(tmp_path, capsys) -> None:
+    out = tmp_path / "ablation"
+    argv = ["--ablation", "--tiny", "--seeds", "2", "--cells", "paper,ours", "--jobs", "2"]
+    argv += ["--tasks", "oa,planning_straight", "--no-progress", "--out", str(out)]
+    assert main(argv, work=fake_work) == 0
+    report = (out / "report.md").read_text()
+    assert "Made by: `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2" in report
+    assert "| update schedule | 10 per episode | 1 per step |" in report
+    # stand-ins: DiscreteSAC evaluates 60 %, SPNN 90 %, of 2 episodes per seed; seed s trains
+    # for 60 (1 + s) s, so 1.5 min on average
+    assert "| `paper` | paper (see the set-up table) | 50 % [15, 85] (50/50);" in report
+    assert "1.5 min |" in report
+    assert "| `ours` |" in report and "90 %" not in report  # 2 of 2 at 90 % rounds to 100 %
+    assert "100 % [51, 100] (100/100)" in report
+    capsys.readouterr()
+    # a rerun resumes: every run was finished earlier, and the table is the same
+    assert main(argv, work=fake_work) == 0
+    assert "runs: 0 done now, 10 earlier, 0 failed" in capsys.readouterr().out
+    assert (out / "report.md").read_text().split("Runs finished")[0] == report.split(
+        "Runs finished"
+    )[0]
