@@ -102,8 +102,8 @@ FULL = Budget(
 )
 #: ``--quick``: a smoke test of the whole study, meant to take at most five minutes on 2 cores.
 QUICK = Budget(
-    prior_episodes={"pf_straight": 25, "pf_sine": 25, "oa": 25},
-    transfer_episodes={"straight": 25, "sine": 25},
+    prior_episodes={"pf_straight": 10, "pf_sine": 10, "oa": 10},
+    transfer_episodes={"straight": 10, "sine": 10},
     eval_episodes=10,
 )
 #: Hidden test budget (``--tiny``): a few seconds per run.

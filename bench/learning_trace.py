@@ -1,0 +1,116 @@
+"""Watch one DiscreteSAC run learn: every ``--every`` episodes, what the episodes ended in.
+
+Prints, per block of episodes: mean return and length, end reasons (success, collision,
+heading, off_path, time_limit), the entropy coefficient alpha, the policy's action probabilities
+and the first critic's Q values at the task's start observation, and the elapsed time; at the
+end, success over ``--eval-episodes`` evaluation episodes under the evaluation library's start
+noise (seeds 10000+, apart from the training seeds). A diagnostic, not a statistic: the
+ablation (``python -m sb3_pnn.reproduce --ablation``) measures across seeds.
+
+Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup ours
+                                      [--episodes 300] [--seed 0] [--set progress_weighted=false]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import gymnasium as gym
+import numpy as np
+import torch as th
+from stable_baselines3.common.callbacks import BaseCallback
+
+import rov_envs  # noqa: F401 - registers the tasks
+from sb3_pnn import DiscreteSAC
+from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.reproduce.setups import SETUPS
+
+
+class Trace(BaseCallback):
+    """Prints a line per block of episodes; stops after ``episodes``."""
+
+    def __init__(self, model_ref: list, obs0: dict, episodes: int, every: int) -> None:
+        super().__init__()
+        self.model_ref, self.obs0, self.episodes, self.every = model_ref, obs0, episodes, every
+        self.ret, self.returns, self.lengths, self.ends, self.n = 0.0, [], [], [], 0
+        self.t0 = time.time()
+
+    def _on_step(self) -> bool:
+        self.ret += float(self.locals["rewards"][0])
+        self.n += 1
+        if self.locals["dones"][0]:
+            self.returns.append(self.ret)
+            self.lengths.append(self.n)
+            self.ends.append(self.locals["infos"][0].get("end_reason"))
+            self.ret, self.n = 0.0, 0
+            if len(self.returns) % self.every == 0:
+                self._print()
+        return len(self.returns) < self.episodes
+
+    def _print(self) -> None:
+        model = self.model_ref[0]
+        obs = {k: th.as_tensor(v[None]) for k, v in self.obs0.items()}
+        with th.no_grad():
+            q = model.critic(obs)[0][0].numpy().round(1).tolist()
+            pi = th.softmax(model.actor(obs), 1)[0].numpy().round(2).tolist()
+        alpha = float(th.exp(model.log_ent_coef).item())
+        ends = self.ends[-self.every :]
+        counts = {e: ends.count(e) for e in sorted(set(ends))}
+        print(
+            f"episode {len(self.returns)} steps {self.num_timesteps} "
+            f"return {np.mean(self.returns[-self.every :]):.0f} "
+            f"length {np.mean(self.lengths[-self.every :]):.0f} ends {counts} alpha {alpha:.3f} "
+            f"pi(s0) {pi} Q1(s0) {q} t {time.time() - self.t0:.0f} s",
+            flush=True,
+        )
+
+
+def _parse_set(items: list[str]) -> dict:
+    changes = {}
+    for item in items:
+        name, _, value = item.partition("=")
+        changes[name] = json.loads(value)
+    if "net_arch" in changes:
+        changes["net_arch"] = tuple(changes["net_arch"])
+    return changes
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--env", default="rov_envs/PlanningStraight-v0")
+    parser.add_argument("--setup", choices=sorted(SETUPS), default="ours")
+    parser.add_argument(
+        "--set", nargs="*", default=[], help="factor=JSON value, e.g. progress_weighted=false"
+    )
+    parser.add_argument("--episodes", type=int, default=300)
+    parser.add_argument("--every", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--eval-episodes", type=int, default=50)
+    parser.add_argument("--save", default="", help="save the model here at the end")
+    args = parser.parse_args()
+    th.set_num_threads(1)
+    setup = SETUPS[args.setup].with_(**_parse_set(args.set))
+    print(f"set-up: {setup.to_dict()}", flush=True)
+    sac = setup.sac_kwargs()
+    sac["train_freq"] = tuple(sac["train_freq"])
+    env = gym.make(args.env, **setup.train_env_kwargs())
+    model = DiscreteSAC("MultiInputPolicy", env, seed=args.seed, device="cpu", **sac)
+    obs0, _ = gym.make(args.env, **setup.env_kwargs()).reset(seed=0)
+    model.learn(10**9, callback=Trace([model], obs0, args.episodes, args.every))
+    if args.save:
+        model.save(args.save)
+    result = evaluate_policy_on_task(
+        model, args.env, n_episodes=args.eval_episodes, env_kwargs=setup.env_kwargs()
+    )
+    lo, hi = result.success_ci95
+    print(
+        f"evaluation: {result.success_rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] of "
+        f"{result.n_episodes}; ends {result.end_reasons}",
+        flush=True,
+    )
+
+
+if __name__ == "__main__":
+    main()
