@@ -62,12 +62,13 @@ def _entry(summary: dict[str, Any] | None, seeds: int) -> str:
         return "not run"
     lo, hi = summary["ci95"]
     rate = summary["successes"] / summary["n"]
-    per_seed = "/".join(f"{r * 100:.0f}" for r in summary["rates"])
+    per_seed = ", ".join(f"{r * 100:.0f}" for r in summary["rates"])
     first = summary["first_median"]
     first_text = "none" if first is None else f"{first:.0f}"
     partial = "" if summary["runs"] == seeds else f" ({summary['runs']}/{seeds} runs)"
     return (
-        f"{rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] ({per_seed}); first {first_text} "
+        f"{rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] (seeds: {per_seed} %); "
+        f"first {first_text} "
         f"({summary['first_reached']}/{summary['runs']}); {summary['train_min']:.1f} min"
         f"{partial}"
     )
@@ -128,10 +129,14 @@ def render_report(
         lines.append(f"| `{name}` | {cell.describe()} | " + " | ".join(entries) + " |")
     wall = sum(float(s.get("wall_s", 0.0)) for s in sessions)
     jobs = sorted({int(s.get("jobs", 0)) for s in sessions})
+    clock = (
+        f"{wall / 60:.0f} min (--jobs {', '.join(map(str, jobs))})"
+        if sessions
+        else "not recorded (every session was interrupted; the per-run times above stand)"
+    )
     lines += [
         "",
         f"Runs finished: {len(results.runs)}; not finished or not run: {len(results.missing)}; "
-        f"failed: {len(results.failures)}. Wall clock of the sessions that made them: "
-        f"{wall / 60:.0f} min (--jobs {', '.join(map(str, jobs)) or '-'}).",
+        f"failed: {len(results.failures)}. Wall clock of the sessions that ran them: {clock}.",
     ]
     return "\n".join(lines) + "\n"

@@ -95,10 +95,10 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     assert "| update schedule | 10 per episode | 1 per step |" in report
     # stand-ins: DiscreteSAC evaluates 60 %, SPNN 90 %, of 2 episodes per seed; seed s trains
     # for 60 (1 + s) s, so 1.5 min on average
-    assert "| `paper` | paper (see the set-up table) | 50 % [15, 85] (50/50);" in report
+    assert "| `paper` | paper (see the set-up table) | 50 % [15, 85] (seeds: 50, 50 %);" in report
     assert "1.5 min |" in report
     assert "| `ours` |" in report and "90 %" not in report  # 2 of 2 at 90 % rounds to 100 %
-    assert "100 % [51, 100] (100/100)" in report
+    assert "100 % [51, 100] (seeds: 100, 100 %)" in report
     capsys.readouterr()
     # a rerun resumes: every run was finished earlier, and the table is the same
     assert main(argv, work=fake_work) == 0
