@@ -1,7 +1,8 @@
 """Cost of one DiscreteSAC gradient step, beside SB3 DQN's on the same networks (the anchor).
 
 Prints milliseconds per gradient step (CPU time, one torch thread) for DiscreteSAC with plain
-columns and with the SPNN's three columns, and for SB3's DQN (one Q-network and its target, the
+columns (with its default fused Adam and with PyTorch's default for-each Adam) and with the SPNN's
+three columns, and for SB3's DQN (one Q-network and its target, the
 cheapest off-policy update SB3 ships), on PlanningStraight-v0's observation, batch 256, and the
 ratio DiscreteSAC / DQN. Timings alternate between the learners, ``--repeats`` rounds, and the
 median round is kept, so that other load on the machine affects all of them alike.
@@ -77,6 +78,12 @@ def main() -> None:
                 "DiscreteSAC": DiscreteSAC(
                     "MultiInputPolicy", env, policy_kwargs={"net_arch": arch}, **sac_kw
                 ),
+                "DiscreteSAC, for-each Adam": DiscreteSAC(
+                    "MultiInputPolicy",
+                    env,
+                    policy_kwargs={"net_arch": arch, "optimizer_kwargs": {"fused": False}},
+                    **sac_kw,
+                ),
                 "DiscreteSAC + SPNN": DiscreteSAC(
                     SelectivePolicy,
                     env,
@@ -95,7 +102,7 @@ def main() -> None:
             print(f"networks {arch}, batch {args.batch}, one torch thread (median of rounds):")
             for name, values in rounds.items():
                 ms = statistics.median(values)
-                print(f"  {name:<20} {ms:7.2f} ms per gradient step  ({ms / anchor:4.2f}x DQN)")
+                print(f"  {name:<27} {ms:7.2f} ms per gradient step  ({ms / anchor:4.2f}x DQN)")
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ ablation (``python -m sb3_pnn.reproduce --ablation``) measures across seeds.
 
 Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup ours
                                       [--episodes 300] [--seed 0] [--set progress_weighted=false]
+                                      [--eval-every 100]
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import torch as th
 from stable_baselines3.common.callbacks import BaseCallback
 
 import rov_envs  # noqa: F401 - registers the tasks
-from sb3_pnn import DiscreteSAC
+from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.reproduce.setups import SETUPS
 
@@ -31,9 +32,12 @@ from sb3_pnn.reproduce.setups import SETUPS
 class Trace(BaseCallback):
     """Prints a line per block of episodes; stops after ``episodes``."""
 
-    def __init__(self, model_ref: list, obs0: dict, episodes: int, every: int) -> None:
+    def __init__(
+        self, model_ref: list, obs0: dict, episodes: int, every: int, evaluate=None, eval_every=0
+    ) -> None:
         super().__init__()
         self.model_ref, self.obs0, self.episodes, self.every = model_ref, obs0, episodes, every
+        self.evaluate, self.eval_every = evaluate, eval_every
         self.ret, self.returns, self.lengths, self.ends, self.n = 0.0, [], [], [], 0
         self.t0 = time.time()
 
@@ -47,6 +51,8 @@ class Trace(BaseCallback):
             self.ret, self.n = 0.0, 0
             if len(self.returns) % self.every == 0:
                 self._print()
+            if self.eval_every and len(self.returns) % self.eval_every == 0:
+                self.evaluate(f"after {len(self.returns)} episodes")
         return len(self.returns) < self.episodes
 
     def _print(self) -> None:
@@ -84,10 +90,22 @@ def main() -> None:
     parser.add_argument(
         "--set", nargs="*", default=[], help="factor=JSON value, e.g. progress_weighted=false"
     )
+    parser.add_argument(
+        "--agent",
+        choices=("sac", "pnn", "spnn"),
+        default="sac",
+        help="DiscreteSAC from scratch, or PNN / SPNN on the --priors",
+    )
+    parser.add_argument(
+        "--priors", nargs="*", default=[], help="prior zips: PNN one (path following), SPNN two"
+    )
     parser.add_argument("--episodes", type=int, default=300)
     parser.add_argument("--every", type=int, default=20)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--eval-episodes", type=int, default=50)
+    parser.add_argument(
+        "--eval-every", type=int, default=0, help="also evaluate every N training episodes"
+    )
     parser.add_argument("--save", default="", help="save the model here at the end")
     args = parser.parse_args()
     th.set_num_threads(1)
@@ -96,20 +114,31 @@ def main() -> None:
     sac = setup.sac_kwargs()
     sac["train_freq"] = tuple(sac["train_freq"])
     env = gym.make(args.env, **setup.train_env_kwargs())
-    model = DiscreteSAC("MultiInputPolicy", env, seed=args.seed, device="cpu", **sac)
+    policy = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}
+    if args.agent != "sac":
+        sac["policy_kwargs"]["priors"] = args.priors
+    if args.agent == "spnn":
+        sac["policy_kwargs"]["sonar_range"] = float(env.unwrapped.sonar_range)
+    model = DiscreteSAC(policy[args.agent], env, seed=args.seed, device="cpu", **sac)
     obs0, _ = gym.make(args.env, **setup.env_kwargs()).reset(seed=0)
-    model.learn(10**9, callback=Trace([model], obs0, args.episodes, args.every))
+
+    def evaluate(when: str) -> None:
+        result = evaluate_policy_on_task(
+            model, args.env, n_episodes=args.eval_episodes, env_kwargs=setup.env_kwargs()
+        )
+        lo, hi = result.success_ci95
+        print(
+            f"evaluation {when}: {result.success_rate * 100:.0f} % [{lo * 100:.0f}, "
+            f"{hi * 100:.0f}] of {result.n_episodes}; ends {result.end_reasons}",
+            flush=True,
+        )
+
+    trace = Trace([model], obs0, args.episodes, args.every, evaluate, args.eval_every)
+    model.learn(10**9, callback=trace)
     if args.save:
         model.save(args.save)
-    result = evaluate_policy_on_task(
-        model, args.env, n_episodes=args.eval_episodes, env_kwargs=setup.env_kwargs()
-    )
-    lo, hi = result.success_ci95
-    print(
-        f"evaluation: {result.success_rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] of "
-        f"{result.n_episodes}; ends {result.end_reasons}",
-        flush=True,
-    )
+    if not args.eval_every or args.episodes % args.eval_every:
+        evaluate("at the end")
 
 
 if __name__ == "__main__":

@@ -56,6 +56,10 @@ from sb3_pnn.safe_io.replay_buffer_io import load_buffer, save_buffer
 SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
 
 
+#: Default target entropy H_target as a fraction of log|A| (the paper does not give one).
+DEFAULT_TARGET_ENTROPY_RATIO = 0.5
+
+
 class DiscreteSACLosses(NamedTuple):
     """The three losses of one gradient step and the mean policy entropy (detached)."""
 
@@ -217,7 +221,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         optimize_memory_usage: bool = False,
         n_steps: int = 1,
         ent_coef: str | float = "auto_0.2",
-        target_entropy_ratio: float = 0.5,
+        target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO,
         target_update_interval: int = 1,
         stats_window_size: int = 100,
         tensorboard_log: str | None = None,

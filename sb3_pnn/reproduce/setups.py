@@ -26,6 +26,8 @@ Factors:
   the path whether the vehicle advances or not, so with gamma = 0.99 staying put in front of an
   obstacle is worth more than passing it (measured: agents loiter to the time limit).
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
+* ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
+  the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
 """
 
 from __future__ import annotations
@@ -33,6 +35,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
+
+from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
 
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
 #: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
@@ -68,9 +72,15 @@ class TrainingSetup:
     success_reward: float = 0.0
     progress_weighted: bool = False
     net_arch: tuple[int, ...] = (255, 255)
+    target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
+        if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
+            raise ValueError(
+                f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
+                "expected a number in (0, 1]"
+            )
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
@@ -93,12 +103,17 @@ class TrainingSetup:
     def sac_kwargs(self) -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults)."""
         train_freq, gradient_steps = parse_updates(self.updates)
-        return {
+        kwargs: dict[str, Any] = {
             "learning_starts": LEARNING_STARTS,
             "train_freq": list(train_freq),
             "gradient_steps": gradient_steps,
             "policy_kwargs": {"net_arch": list(self.net_arch)},
         }
+        # Named only when it departs from DiscreteSAC's default, so that the specs (and result
+        # hashes) of runs made before this factor existed stay the same.
+        if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
+            kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
+        return kwargs
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -145,6 +160,7 @@ FACTOR_LABELS: dict[str, str] = {
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
     "net_arch": "hidden layers",
+    "target_entropy_ratio": "target entropy / ln(number of actions)",
 }
 
 

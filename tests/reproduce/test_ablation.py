@@ -76,6 +76,14 @@ def test_bad_setup_refused() -> None:
         TrainingSetup(updates="step:0")
     with pytest.raises(ValueError, match="net_arch"):
         TrainingSetup(net_arch=())
+    with pytest.raises(ValueError, match="target_entropy_ratio=0"):
+        TrainingSetup(target_entropy_ratio=0)
+
+
+def test_target_entropy_reaches_the_learner_only_when_changed() -> None:
+    """Specs of runs made before the factor existed keep their hash (no key at the default)."""
+    assert "target_entropy_ratio" not in PAPER.sac_kwargs()
+    assert PAPER.with_(target_entropy_ratio=0.2).sac_kwargs()["target_entropy_ratio"] == 0.2
 
 
 def test_cli_unknown_cell_one_line(capsys, tmp_path) -> None:
