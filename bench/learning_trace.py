@@ -108,6 +108,11 @@ def main() -> None:
     )
     parser.add_argument("--save", default="", help="save the model here at the end")
     args = parser.parse_args()
+    wanted = {"sac": 0, "pnn": 1, "spnn": 2}[args.agent]
+    if len(args.priors) != wanted:
+        parser.error(
+            f"--agent {args.agent} takes {wanted} prior zip(s) in --priors, got {len(args.priors)}"
+        )
     th.set_num_threads(1)
     setup = SETUPS[args.setup].with_(**_parse_set(args.set))
     print(f"set-up: {setup.to_dict()}", flush=True)
