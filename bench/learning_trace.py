@@ -4,7 +4,9 @@ Prints, per block of episodes: mean return and length, end reasons (success, col
 heading, off_path, time_limit), the entropy coefficient alpha, the policy's action probabilities
 and the first critic's Q values at the task's start observation, and the elapsed time; at the
 end, success over ``--eval-episodes`` evaluation episodes under the evaluation library's start
-noise (seeds 10000+, apart from the training seeds). A diagnostic, not a statistic: the
+noise (seeds 10000+, apart from the training seeds; before 2026-11-23 the script used seeds
+0+ here). With ``keep_best`` (on in ``ours``) it also validates every 25 episodes as the study
+does and evaluates the policy kept. A diagnostic, not a statistic: the
 ablation (``python -m sb3_pnn.reproduce --ablation``) measures across seeds.
 
 Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup ours
@@ -15,18 +17,19 @@ Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup
 from __future__ import annotations
 
 import argparse
-import json
 import time
 
 import gymnasium as gym
 import numpy as np
 import torch as th
-from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.setups import SETUPS
+from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes
+from sb3_pnn.reproduce.work import EVAL_SEED
+from sb3_pnn.validation import VALIDATION_SEED, KeepBestOnValidation
 
 
 class Trace(BaseCallback):
@@ -61,7 +64,9 @@ class Trace(BaseCallback):
         with th.no_grad():
             q = model.critic(obs)[0][0].numpy().round(1).tolist()
             pi = th.softmax(model.actor(obs), 1)[0].numpy().round(2).tolist()
-        alpha = float(th.exp(model.log_ent_coef).item())
+        alpha = model.ent_coef  # a fixed alpha, unless it is learned
+        if model.log_ent_coef is not None:
+            alpha = float(th.exp(model.log_ent_coef).item())
         ends = self.ends[-self.every :]
         counts = {e: ends.count(e) for e in sorted(set(ends))}
         print(
@@ -73,22 +78,12 @@ class Trace(BaseCallback):
         )
 
 
-def _parse_set(items: list[str]) -> dict:
-    changes = {}
-    for item in items:
-        name, _, value = item.partition("=")
-        changes[name] = json.loads(value)
-    if "net_arch" in changes:
-        changes["net_arch"] = tuple(changes["net_arch"])
-    return changes
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--env", default="rov_envs/PlanningStraight-v0")
     parser.add_argument("--setup", choices=sorted(SETUPS), default="ours")
     parser.add_argument(
-        "--set", nargs="*", default=[], help="factor=JSON value, e.g. progress_weighted=false"
+        "--set", nargs="*", default=[], help="factor=value, e.g. progress_weighted=false"
     )
     parser.add_argument(
         "--agent",
@@ -113,8 +108,11 @@ def main() -> None:
         parser.error(
             f"--agent {args.agent} takes {wanted} prior zip(s) in --priors, got {len(args.priors)}"
         )
+    try:
+        setup = SETUPS[args.setup].with_(**parse_setup_changes(args.set))
+    except ValueError as error:
+        parser.error(str(error))
     th.set_num_threads(1)
-    setup = SETUPS[args.setup].with_(**_parse_set(args.set))
     print(f"set-up: {setup.to_dict()}", flush=True)
     sac = setup.sac_kwargs()
     sac["train_freq"] = tuple(sac["train_freq"])
@@ -129,7 +127,11 @@ def main() -> None:
 
     def evaluate(when: str) -> None:
         result = evaluate_policy_on_task(
-            model, args.env, n_episodes=args.eval_episodes, env_kwargs=setup.env_kwargs()
+            model,
+            args.env,
+            n_episodes=args.eval_episodes,
+            seed=EVAL_SEED,
+            env_kwargs=setup.env_kwargs(),
         )
         lo, hi = result.success_ci95
         print(
@@ -139,11 +141,23 @@ def main() -> None:
         )
 
     trace = Trace([model], obs0, args.episodes, args.every, evaluate, args.eval_every)
-    model.learn(10**9, callback=trace)
-    if args.save:
-        model.save(args.save)
+    callbacks = [trace]
+    validation = setup.validation()
+    if validation:  # keep_best: what the study does (sb3_pnn.reproduce.work.train)
+        keeper = KeepBestOnValidation(
+            args.env, validation["every"], validation["episodes"], setup.env_kwargs()
+        )
+        callbacks.append(keeper)
+    model.learn(10**9, callback=CallbackList(callbacks))
     if not args.eval_every or args.episodes % args.eval_every:
         evaluate("at the end")
+    if validation and keeper.history:
+        checks = " ".join(f"{h['episode']}:{h['success_rate'] * 100:.0f}%" for h in keeper.history)
+        print(f"validation (episode:success, seeds {VALIDATION_SEED}+): {checks}", flush=True)
+        keeper.restore()
+        evaluate(f"of the policy kept (episode {keeper.best_episode})")
+    if args.save:
+        model.save(args.save)
 
 
 if __name__ == "__main__":

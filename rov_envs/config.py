@@ -15,7 +15,7 @@ import numpy as np
 
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
-from rov_envs.tasks import PATH_SINE, TASKS, TaskSpec
+from rov_envs.tasks import HEADING_REFERENCES, PATH_SINE, TASKS, TaskSpec
 
 #: Control period (s): one environment step, the physics' default (0.2 s, 4 ETDRK4 substeps).
 CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
@@ -97,6 +97,7 @@ class EnvConfig:
     vehicle: str = DEFAULT_VEHICLE
     motion_obs: bool = False
     progress_weighted: bool = False
+    heading_reference: str = "path"
 
     @property
     def n_substeps(self) -> int:
@@ -185,6 +186,10 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
             progress along the path, as a fraction of 1 m/s (default False; not in the paper,
             see :mod:`rov_envs.rewards`): without it, staying near the path pays as much as
             following it, and stopping short of an obstacle beats passing it.
+        heading_reference: ``"path"`` (a_c from the LOS course, eq. 16) or ``"goal"`` (a_c
+            from the bearing to the target point); default: the task's (``"goal"`` for
+            ObstacleAvoidance, whose policy avoids obstacles on its way to a goal rather than
+            following a path; ``"path"`` for every other task).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -208,6 +213,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "motion_obs",
         "control_period",
         "progress_weighted",
+        "heading_reference",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -279,6 +285,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     progress_weighted = kwargs.get("progress_weighted", False)
     if not isinstance(progress_weighted, (bool, np.bool_)):
         raise _bad("progress_weighted", progress_weighted, "True or False")
+    heading_reference = kwargs.get("heading_reference", task.heading_reference)
+    if not isinstance(heading_reference, str) or heading_reference not in HEADING_REFERENCES:
+        raise _bad("heading_reference", heading_reference, f"one of {list(HEADING_REFERENCES)}")
     vehicle = kwargs.get("vehicle", DEFAULT_VEHICLE)
     if not isinstance(vehicle, str) or vehicle not in VEHICLES:
         raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
@@ -302,6 +311,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         motion_obs=bool(motion_obs),
         dt=dt,
         progress_weighted=bool(progress_weighted),
+        heading_reference=heading_reference,
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

@@ -32,7 +32,7 @@ from numba import njit, prange
 
 from rov_envs.layouts import draw_layout
 from rov_envs.physics.etd import ETD_SIZE, unpack_coefficients
-from rov_envs.physics.guidance import los_tuple
+from rov_envs.physics.guidance import los_tuple, wrap_to_pi
 from rov_envs.physics.integrator import (
     LANES,
     ROW_CMD,
@@ -96,7 +96,8 @@ C_CURRENT_Y = 25
 C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
 C_MOTION = 27  # 1.0 when the observation has a "motion" part
 C_PROGRESS_W = 28  # 1.0: r_c (eq. 18/19) paid in proportion to progress along the path
-C_ETD = 29  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the target, not the LOS course
+C_ETD = 30  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
@@ -188,9 +189,11 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     """Guidance, obstacle distance, sonar and motion of vehicle i; fills its observation and
     ``out``.
 
-    The sonar looks along the heading of the attitude quaternion (the body x axis projected on
-    the horizontal plane); guidance uses the heading row. The motion part is the body-frame sway
-    v (m/s, over ground, as the vehicle's velocity state) and yaw rate r (rad/s), clipped to
+    a_c is measured from the LOS course (eq. 16), or, with ``C_HEADING_GOAL`` set, from the
+    bearing to the target point. The sonar looks along the heading of the attitude quaternion
+    (the body x axis projected on the horizontal plane); guidance uses the heading row. The
+    motion part is the body-frame sway v (m/s, over ground, as the vehicle's velocity state)
+    and yaw rate r (rad/s), clipped to
     +-``MOTION_SWAY_LIMIT`` / +-``MOTION_YAW_RATE_LIMIT``.
     """
     o = lane_index(i)
@@ -201,6 +204,8 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     a_c, g, progress = los_tuple(
         int(cfg[C_PATH]), x, y, psi, cfg[C_AMP], cfg[C_WAVE], cfg[C_LOOKAHEAD], out[O_PROG, i]
     )
+    if cfg[C_HEADING_GOAL] != 0.0:
+        a_c = wrap_to_pi(psi - math.atan2(cfg[C_GOALY] - y, cfg[C_GOALX] - x))
     m = n_obs[i]
     d = _nearest(x, y, obstacles[i], m)
     obs_path[i, 0] = a_c / math.pi

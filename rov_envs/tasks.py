@@ -21,6 +21,9 @@ REWARD_STRAIGHT = 0
 REWARD_SINE = 1
 REWARD_PROGRESS = 2
 
+#: Heading references of a_c (``TaskSpec.heading_reference``, env argument ``heading_reference``).
+HEADING_REFERENCES = ("path", "goal")
+
 #: The paper's straight-task obstacles (section 4.2.1), (x, y, radius) in metres.
 PAPER_STRAIGHT_OBSTACLES = (
     (66.0, -2.5, 1.5),
@@ -47,6 +50,9 @@ class TaskSpec:
         layout: ``"none"``, ``"fixed"`` or the name of a generator in :mod:`rov_envs.layouts`.
         obstacles: the fixed obstacles when ``layout == "fixed"``.
         sonar: whether the observation has the "sonar" part.
+        heading_reference: what the heading deviation a_c (observation, and eq. 21's
+            |a_c| >= pi/2 failure) is measured from: ``"path"``, the LOS course of eq. 16
+            (lookahead 5 m), or ``"goal"``, the bearing from the vehicle to the target point.
     """
 
     name: str
@@ -59,6 +65,7 @@ class TaskSpec:
     amplitude: float = SINE_AMPLITUDE
     wavelength: float = SINE_WAVELENGTH
     sonar: bool = False
+    heading_reference: str = "path"
 
 
 TASKS: dict[str, TaskSpec] = {
@@ -74,6 +81,7 @@ TASKS: dict[str, TaskSpec] = {
             60.0,
             layout="avoidance",
             sonar=True,
+            heading_reference="goal",
         ),
         TaskSpec(
             "PlanningStraight",

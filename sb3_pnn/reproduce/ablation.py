@@ -189,6 +189,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     eval_episodes=budget.eval_episodes,
                     sac_kwargs=setup.sac_kwargs(),
                     env_kwargs=setup.train_env_kwargs(),
+                    validation=setup.validation(),
                 )
     plan = list(runs.values())
     # priors first (a run's deps always come earlier), then seed by seed

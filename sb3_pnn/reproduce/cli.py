@@ -4,7 +4,7 @@ Usage::
 
     python -m sb3_pnn.reproduce [--quick] [--seeds N] [--jobs J] [--out DIR] [--episodes E]
                                 [--eval-episodes N] [--prior-per-seed] [--no-progress]
-                                [--setup {ours,paper}]
+                                [--setup {ours,paper}] [--set FACTOR=VALUE ...]
     python -m sb3_pnn.reproduce --ablation ...   (see :mod:`.ablation_cli`)
 
 The study (see :mod:`.plan`) trains the source columns, then SAC-Single, SAC-Multi, PNN and SPNN
@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from sb3_pnn.reproduce.plan import BUDGETS, StudyConfig, build_plan
-from sb3_pnn.reproduce.setups import SETUPS
+from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes
 from sb3_pnn.reproduce.store import (
     RunStore,
     StudyConflictError,
@@ -127,6 +127,14 @@ def make_parser() -> argparse.ArgumentParser:
         "sb3_pnn/reproduce/setups.py",
     )
     parser.add_argument(
+        "--set",
+        nargs="+",
+        default=[],
+        metavar="FACTOR=VALUE",
+        help="change factors of the set-up, e.g. --set updates=step:4 keep_best=false "
+        "(factors: sb3_pnn/reproduce/setups.py; report.md lists the set-up used)",
+    )
+    parser.add_argument(
         "--ablation",
         action="store_true",
         help="run the set-up ablation instead (options: python -m sb3_pnn.reproduce --ablation "
@@ -137,6 +145,7 @@ def make_parser() -> argparse.ArgumentParser:
 
 
 def config_from_args(args: argparse.Namespace) -> StudyConfig:
+    """The study asked for; ValueError (naming the bad value) for a bad ``--set``."""
     budget = "tiny" if args.tiny else ("quick" if args.quick else "full")
     seeds = args.seeds if args.seeds is not None else DEFAULT_SEEDS[budget]
     return StudyConfig(
@@ -146,6 +155,7 @@ def config_from_args(args: argparse.Namespace) -> StudyConfig:
         eval_episodes=args.eval_episodes,
         prior_per_seed=args.prior_per_seed,
         setup_name=args.setup,
+        setup_changes=tuple(parse_setup_changes(args.set).items()),
     )
 
 
@@ -178,7 +188,10 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
         return ablation_main([a for a in argv if a != "--ablation"], work=work)
     parser = make_parser()
     args = parser.parse_args(argv)
-    config = config_from_args(args)
+    try:
+        config = config_from_args(args)
+    except ValueError as error:
+        parser.error(str(error))
     out = Path(args.out or ("results/quick" if args.quick else DEFAULT_OUT))
     store = open_store_or_exit(parser, out)
     try:

@@ -135,6 +135,8 @@ class StudyConfig:
     paths: tuple[str, ...] = ("straight", "sine")
     agents: tuple[str, ...] = tuple(AGENTS)
     setup_name: str = "ours"
+    # (factor, value) pairs changed from the named set-up (``--set``)
+    setup_changes: tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
         check_budget_and_seeds(self.budget_name, BUDGETS, self.seeds)
@@ -156,10 +158,11 @@ class StudyConfig:
         for agent in self.agents:
             if agent not in AGENTS:
                 raise ValueError(f"agent {agent!r} is unknown; expected one of {sorted(AGENTS)}")
+        self.setup  # noqa: B018 - a bad change raises here, before any run starts
 
     @property
     def setup(self) -> TrainingSetup:
-        return SETUPS[self.setup_name]
+        return SETUPS[self.setup_name].with_(**dict(self.setup_changes))
 
     @property
     def budget(self) -> Budget:
@@ -195,9 +198,15 @@ class RunSpec:
     trace_episodes: int = 0
     sac_kwargs: dict[str, Any] = field(default_factory=dict)
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # the training environment's
+    # {"every": N, "episodes": K}: keep the best policy on validation episodes (empty: the last)
+    validation: dict[str, int] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
-        return json.loads(json.dumps(asdict(self)))
+        data = json.loads(json.dumps(asdict(self)))
+        if not data["validation"]:
+            # left out when off, so that runs made before the field existed keep their hash
+            del data["validation"]
+        return data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RunSpec:
@@ -239,8 +248,9 @@ def prior_run(
         episodes=episodes,
         eval_tasks=(("own", env_id, setup.env_kwargs()),),
         eval_episodes=eval_episodes,
-        sac_kwargs=setup.sac_kwargs(),
+        sac_kwargs=setup.sac_kwargs(prior=True),
         env_kwargs=setup.train_env_kwargs(),
+        validation=setup.validation(),
     )
 
 
@@ -310,6 +320,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         trace_episodes=budget.trace_episodes,
                         sac_kwargs=setup.sac_kwargs(),
                         env_kwargs=setup.train_env_kwargs(),
+                        validation=setup.validation(),
                     )
                 )
     return runs

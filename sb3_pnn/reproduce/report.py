@@ -408,6 +408,20 @@ def cost_table(results: StudyResults) -> list[str]:
     return lines
 
 
+def setup_text(config: StudyConfig) -> str:
+    """The study's training set-up in words: its name, ``--set`` changes, every factor."""
+    from sb3_pnn.reproduce.setups import FACTOR_LABELS, describe_value
+
+    setup = config.setup
+    name = f"`{config.setup_name}`"
+    if config.setup_changes:
+        name += " with --set " + " ".join(f"{k}={v}" for k, v in config.setup_changes)
+    factors = "; ".join(
+        f"{FACTOR_LABELS[k]} {describe_value(k, v)}" for k, v in setup.to_dict().items()
+    )
+    return f"{name} ({factors})"
+
+
 def write_report(
     results: StudyResults,
     config: StudyConfig,
@@ -458,9 +472,9 @@ def write_report(
         "start pose "
         "perturbed by the evaluation library's default noise; success rates are pooled over "
         "seeds with Wilson 95 % intervals",
-        "- DiscreteSAC: paper's Tables 2-3 (networks [255, 255], lr 3e-4, Polyak 0.005, "
-        "gamma 0.99, "
-        "alpha from 0.2, buffer 1e6, 10 updates of 256 after each episode), learning_starts 256",
+        f"- training set-up: {setup_text(config)}",
+        "- DiscreteSAC otherwise as the paper's Tables 2-3 (lr 3e-4, Polyak 0.005, gamma 0.99, "
+        "alpha from 0.2, buffer 1e6, batch 256), learning_starts 256",
         f"- runs finished: {len(results.runs)} ({len(train_runs)} trained); "
         f"missing: {len(results.missing)}; "
         f"failed: {len(results.failures)}",

@@ -16,6 +16,10 @@ Factors:
 * ``updates``: ``"episode:N"``: N gradient steps of batch 256 after every episode (Table 3,
   "Number of Samples per Episode 10"); ``"step:K"``: one gradient step every K environment
   steps (K = 1 is section 3.2's "At each step, 256 samples ... are used to update").
+* ``prior_updates``: the update schedule of the source columns' runs (DiscreteSAC on the
+  path-following and obstacle-avoidance tasks), when it should differ from ``updates``
+  (empty: the same). A source column is trained once and reused by every agent and seed, so
+  more updates there cost little beside the transfer runs.
 * ``train_start_noise``: training episodes start from a perturbed pose (1 m, 5 deg, the
   evaluation's noise) instead of the paper's exact start point (0, 0).
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
@@ -28,11 +32,18 @@ Factors:
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
 * ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
   the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
+* ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
+  (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
+  noise, seeds from :data:`sb3_pnn.validation.VALIDATION_SEED`, apart from the evaluation's),
+  as the RL Zoo's ``EvalCallback`` does; off: the policy at the end of the budget (the paper
+  does not say which policy it reports).
 """
 
 from __future__ import annotations
 
+import json
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
@@ -43,6 +54,9 @@ from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
 TRAIN_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
 #: Uniformly random steps before the first update, for every set-up and agent alike: one batch.
 LEARNING_STARTS = 256
+#: Training episodes between two validation checks, and episodes per check (``keep_best``).
+VALIDATION_EVERY = 25
+VALIDATION_EPISODES = 30
 
 
 def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
@@ -67,15 +81,19 @@ class TrainingSetup:
     vehicle: str = "uuv_simulator"
     control_period: float = 0.2
     updates: str = "episode:10"
+    prior_updates: str = ""
     train_start_noise: bool = False
     motion_obs: bool = False
     success_reward: float = 0.0
     progress_weighted: bool = False
     net_arch: tuple[int, ...] = (255, 255)
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
+    keep_best: bool = False
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
+        if self.prior_updates:
+            parse_updates(self.prior_updates)
         if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
             raise ValueError(
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
@@ -100,9 +118,11 @@ class TrainingSetup:
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
         return {**self.env_kwargs(), "start_noise": list(noise)}
 
-    def sac_kwargs(self) -> dict[str, Any]:
-        """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults)."""
-        train_freq, gradient_steps = parse_updates(self.updates)
+    def sac_kwargs(self, prior: bool = False) -> dict[str, Any]:
+        """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
+        ``prior``, those of a source column's run (``prior_updates``)."""
+        updates = self.prior_updates if prior and self.prior_updates else self.updates
+        train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
             "learning_starts": LEARNING_STARTS,
             "train_freq": list(train_freq),
@@ -114,6 +134,12 @@ class TrainingSetup:
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
         return kwargs
+
+    def validation(self) -> dict[str, int]:
+        """How often and on how many episodes a run validates (empty: it keeps the last policy)."""
+        if not self.keep_best:
+            return {}
+        return {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -146,6 +172,7 @@ OURS = TrainingSetup(
     success_reward=200.0,
     progress_weighted=True,
     net_arch=(64, 64),
+    keep_best=True,
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -155,18 +182,22 @@ FACTOR_LABELS: dict[str, str] = {
     "vehicle": "vehicle",
     "control_period": "control period (s)",
     "updates": "update schedule",
+    "prior_updates": "update schedule of the source columns",
     "train_start_noise": "training start noise",
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
     "net_arch": "hidden layers",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
+    "keep_best": "best policy on validation episodes kept",
 }
 
 
 def describe_value(name: str, value: Any) -> str:
     """A factor value as the report prints it."""
-    if name == "updates":
+    if name == "prior_updates" and not value:
+        return "as the update schedule"
+    if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
         if unit == "episode":
             return f"{steps} per episode"
@@ -178,3 +209,45 @@ def describe_value(name: str, value: Any) -> str:
     if name == "success_reward":
         return f"{value:g}"
     return str(value)
+
+
+def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
+    """``["factor=value", ...]`` (the ``--set`` options) as ``{factor: value}``.
+
+    A value is read as JSON (``keep_best=false``, ``net_arch=[128,128]``, ``control_period=0.2``)
+    or else taken as a string (``updates=step:4``), and must have the type of the factor's value
+    in :data:`PAPER`. Raises ValueError naming the bad item and what was expected; the values
+    themselves are then checked by :class:`TrainingSetup`.
+    """
+    changes: dict[str, Any] = {}
+    known = [f.name for f in fields(TrainingSetup)]
+    for item in items:
+        name, sep, text = str(item).partition("=")
+        if not sep or name not in known:
+            raise ValueError(
+                f"--set {item!r} is not allowed: expected factor=value with factor one of {known}"
+            )
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        default = getattr(PAPER, name)
+        if isinstance(default, tuple):
+            ok = isinstance(value, list) and all(
+                isinstance(w, int) and not isinstance(w, bool) for w in value
+            )
+            value = tuple(value) if ok else value
+        elif isinstance(default, bool):
+            ok = isinstance(value, bool)
+        elif isinstance(default, float):
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            value = float(value) if ok else value
+        else:
+            ok = isinstance(value, str)
+        if not ok:
+            raise ValueError(
+                f"--set {item!r} is not allowed: expected a value like {name}="
+                f"{json.dumps(list(default) if isinstance(default, tuple) else default)}"
+            )
+        changes[name] = value
+    return changes

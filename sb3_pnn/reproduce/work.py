@@ -5,6 +5,8 @@ It writes into the run's temporary folder:
 
 * ``model.zip``: the final policy (SB3 format; PNN/SPNN models are self-contained, their prior
   weights are inside), for ``prior`` and ``transfer`` runs;
+* ``validation.json``: when the run keeps its best policy (``spec.validation``), the
+  validation checks and the training episode whose policy was kept (and saved as model.zip);
 * ``episodes.json``: per training episode return, length, success and end reason
   (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
   training episodes (key ``ep_<index>``, arrays (T, 2));
@@ -64,13 +66,32 @@ def build_model(spec: RunSpec, deps: dict[str, Path]) -> Any:
 
 def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[str, Any]]:
     """Train for ``spec.episodes`` episodes; save model, episode records and trajectories."""
+    from stable_baselines3.common.callbacks import CallbackList
+
     from sb3_pnn.reproduce.recorder import EpisodeRecorder
+    from sb3_pnn.validation import KeepBestOnValidation
 
     model = build_model(spec, deps)
     recorder = EpisodeRecorder(spec.episodes, spec.record_episodes)
+    callbacks: list[Any] = [recorder]
+    keeper = None
+    if spec.validation:
+        # the training task as evaluated: the training kwargs without the training start noise
+        # (validation applies the evaluation's own)
+        env_kwargs = {k: v for k, v in spec.env_kwargs.items() if k != "start_noise"}
+        keeper = KeepBestOnValidation(
+            str(spec.env_id),
+            every=int(spec.validation["every"]),
+            n_episodes=int(spec.validation["episodes"]),
+            env_kwargs=env_kwargs,
+        )
+        callbacks.append(keeper)
     start = time.time()
-    model.learn(total_timesteps=MAX_STEPS, callback=recorder, progress_bar=False)
+    model.learn(total_timesteps=MAX_STEPS, callback=CallbackList(callbacks), progress_bar=False)
     train_s = time.time() - start
+    if keeper is not None:
+        keeper.restore()
+        (tmp / "validation.json").write_text(json.dumps(keeper.to_dict()))
     model.save(tmp / "model.zip")
     (tmp / "episodes.json").write_text(json.dumps(recorder.to_dict()))
     np.savez_compressed(
@@ -84,6 +105,8 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
         "train_successes": int(sum(successes)),
         "first_success": successes.index(True) if True in successes else None,
     }
+    if keeper is not None:
+        info["kept_episode"] = keeper.best_episode
     return model, info
 
 

@@ -22,13 +22,28 @@ from sb3_pnn.reproduce.store import RunStore
     [(["--seeds", "0"], "--seeds must be an integer >= 1, got 0"),
      (["--jobs", "0"], "--jobs must be an integer >= 1, got 0"),
      (["--jobs", "two"], "--jobs must be an integer >= 1, got 'two'"),
-     (["--episodes", "-3"], "--episodes must be an integer >= 1, got -3")],
+     (["--episodes", "-3"], "--episodes must be an integer >= 1, got -3"),
+     (["--set", "updats=step:4"], "--set 'updats=step:4' is not allowed"),
+     (["--set", "keep_best=yes"], "expected a value like keep_best=false"),
+     (["--set", "updates=step:0"], "updates='step:0' is not allowed")],
 )  # fmt: skip
 def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
         main([*argv, "--out", str(tmp_path)])
     assert exc.value.code == 2
     assert match in capsys.readouterr().err
+
+
+def test_set_changes_the_runs_of_the_study() -> None:
+    changes = (("updates", "step:4"), ("prior_updates", "step:1"))
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)
+    specs = [spec for spec in build_plan(config) if spec.kind != "baseline"]
+    assert {spec.kind for spec in specs} == {"prior", "transfer"}
+    for spec in specs:  # the source columns get their own schedule
+        assert spec.sac_kwargs["train_freq"] == (
+            [1, "step"] if spec.kind == "prior" else [4, "step"]
+        )
+    assert all(spec.validation for spec in specs)  # the rest of `ours` stays
 
 
 def test_unwritable_out(capsys, tmp_path) -> None:
@@ -52,6 +67,8 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     assert "100 % / 98 % / 98 %" in report  # the paper's SPNN row beside ours
     assert "90 % [" in report  # stand-in SPNN success pooled with its Wilson interval
     # a smoke-sized budget is marked as such and gives no verdicts; the end reasons are explained
+    # the set-up actually used, factor by factor
+    assert "training set-up: `ours` (" in report and "update schedule 1 per step" in report
     assert "**Smoke test** (budget `tiny`" in report and "No verdicts from a smoke test" in report
     assert "agree" not in report.split("## Do we agree with the paper?")[1]
     assert all(f"`{reason}`: " in report for reason in END_REASONS if reason != "none")
