@@ -21,6 +21,12 @@ REWARD_STRAIGHT = 0
 REWARD_SINE = 1
 REWARD_PROGRESS = 2
 
+#: The tasks' definition revision: raised whenever a task's observation, reward or ending
+#: changes, so that stored results made on an older definition are never reused as if current
+#: (sb3_pnn.reproduce hashes it into every run's configuration). 2: ObstacleAvoidance measures
+#: a_c from the bearing to the goal (2026-11-23).
+TASKS_REVISION = 2
+
 #: Heading references of a_c (``TaskSpec.heading_reference``, env argument ``heading_reference``).
 HEADING_REFERENCES = ("path", "goal")
 

@@ -217,8 +217,12 @@ class RunSpec:
         return cls(**data)
 
     def config_hash(self) -> str:
-        """SHA-256 (16 hex digits) of everything that determines this run's result."""
-        blob = json.dumps(self.to_dict(), sort_keys=True).encode()
+        """SHA-256 (16 hex digits) of everything that determines this run's result: the spec
+        and the revision of the task definitions (``rov_envs.tasks.TASKS_REVISION``)."""
+        from rov_envs.tasks import TASKS_REVISION
+
+        data = {**self.to_dict(), "tasks_revision": TASKS_REVISION}
+        blob = json.dumps(data, sort_keys=True).encode()
         return hashlib.sha256(blob).hexdigest()[:16]
 
 

@@ -56,6 +56,16 @@ def test_config_hash_changes_with_the_budget() -> None:
     assert a.config_hash() == pnn(StudyConfig(budget_name="quick", seeds=3)).config_hash()
 
 
+def test_config_hash_changes_with_the_task_revision(monkeypatch) -> None:
+    """Runs stored before a task's definition changed are not taken for current ones."""
+    import rov_envs.tasks
+
+    spec = build_plan(StudyConfig(budget_name="quick", seeds=1))[0]
+    before = spec.config_hash()
+    monkeypatch.setattr(rov_envs.tasks, "TASKS_REVISION", rov_envs.tasks.TASKS_REVISION + 1)
+    assert spec.config_hash() != before
+
+
 def test_commit_is_atomic_and_never_overwrites(tmp_path) -> None:
     spec = build_plan(StudyConfig(budget_name="tiny", seeds=1))[0]
     store = RunStore(tmp_path)
