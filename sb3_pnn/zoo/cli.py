@@ -3,6 +3,8 @@
 Both take every flag of ``python -m rl_zoo3.train`` / ``rl_zoo3.enjoy`` and these of ours:
 
 train:
+  --setup {ours,paper}        which shipped hyperparameter files: ours (default) or the paper's
+                              read literally (zoo_configs/paper/); --conf-file names any other
   --priors A.zip [B.zip]      prior checkpoints, replacing the config's ``priors:`` (same order)
   --tune NAME=LOW:HIGH        tuning bounds (repeatable), e.g. ``--tune d_th=5:20``;
                               NAME=VALUE fixes it, NAME=none leaves it untuned
@@ -41,6 +43,13 @@ ENJOY_PROG = "python -m sb3_pnn.enjoy"
 def _our_train_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog=TRAIN_PROG, add_help=False)
     ours = parser.add_argument_group("sb3_pnn options (besides rl_zoo3's, listed below)")
+    ours.add_argument(
+        "--setup",
+        default=None,
+        metavar="{ours,paper}",
+        help="the shipped hyperparameter files to use: ours (default) or the paper's read "
+        "literally (zoo_configs/paper/)",
+    )
     ours.add_argument("--priors", nargs="+", metavar="ZIP", help="prior checkpoints, in order")
     ours.add_argument(
         "--tune",
@@ -181,8 +190,17 @@ def train_main(argv: list[str] | None = None) -> None:
     common, _ = _common_parser().parse_known_args(rest)
     check_algo_and_env(common.algo, common.env, common.gym_packages)
     check_steps(common.n_timesteps, "the config's n_timesteps")
+    if ours.setup is not None and common.conf_file is not None:
+        raise ZooUsageError(
+            f"--setup {ours.setup} and --conf-file {common.conf_file} both pick the "
+            "hyperparameter file: give one of them"
+        )
+    if ours.setup is not None and common.algo not in OUR_ALGOS:
+        raise ZooUsageError(
+            f"--setup applies to {', '.join(OUR_ALGOS)}; {common.algo} reads rl_zoo3's files"
+        )
     if common.conf_file is None and common.algo in OUR_ALGOS:
-        rest += ["--conf-file", str(default_config_path(common.algo))]
+        rest += ["--conf-file", str(default_config_path(common.algo, ours.setup or "ours"))]
     options = ZooOptions(
         priors=ours.priors,
         tune=parse_cli_bounds(ours.tune),

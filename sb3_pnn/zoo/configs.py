@@ -1,6 +1,7 @@
 """Finding and checking the rl-zoo style hyperparameter files (``zoo_configs/<algo>.yml``).
 
-Lookup order for the default ``--conf-file`` of an algo:
+Lookup order for the default ``--conf-file`` of an algo (``<algo>.yml`` holds our set-up,
+``paper/<algo>.yml`` the paper's read literally, picked by ``--setup paper``):
 
 1. ``$SB3_PNN_ZOO_CONFIGS/<algo>.yml`` when that variable names a folder;
 2. ``zoo_configs/<algo>.yml`` beside the ``sb3_pnn`` package (a repository checkout or an editable
@@ -65,9 +66,20 @@ def config_search_dirs() -> list[Path]:
     return dirs
 
 
-def default_config_path(algo: str) -> Path:
-    """The default hyperparameter file of ``algo`` (first hit of :func:`config_search_dirs`)."""
-    candidates = [folder / f"{algo}.yml" for folder in config_search_dirs()]
+#: The shipped set-ups: ``ours`` (the default files) and ``paper`` (the ``paper/`` subfolder),
+#: the same two as ``sb3_pnn.reproduce --setup`` (sb3_pnn/reproduce/setups.py).
+CONFIG_SETUPS = {"ours": "", "paper": "paper"}
+
+
+def default_config_path(algo: str, setup: str = "ours") -> Path:
+    """The default hyperparameter file of ``algo`` for ``setup`` (``"ours"`` or ``"paper"``;
+    first hit of :func:`config_search_dirs`)."""
+    if setup not in CONFIG_SETUPS:
+        raise ZooUsageError(
+            f"--setup {setup!r}: {did_you_mean(setup, list(CONFIG_SETUPS))}"
+            f"expected one of {', '.join(CONFIG_SETUPS)}"
+        )
+    candidates = [folder / CONFIG_SETUPS[setup] / f"{algo}.yml" for folder in config_search_dirs()]
     for candidate in candidates:
         if candidate.is_file():
             return candidate

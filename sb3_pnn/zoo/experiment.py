@@ -135,9 +135,14 @@ class PNNExperimentManager(ExperimentManager):
                 hyperparams, name=name, path=source, algo=self.algo, algo_class=algo_class
             )
         if "env_kwargs" in hyperparams and self.env_kwargs:
-            hyperparams["env_kwargs"] = self.env_kwargs  # command line beats config
+            # --env-kwargs is merged key by key over the entry's (rl_zoo3 would replace it,
+            # dropping the set-up's control period, observation and reward settings).
+            hyperparams["env_kwargs"] = {**(hyperparams["env_kwargs"] or {}), **self.env_kwargs}
             if self._eval_env_kwargs_args is None:
                 self.eval_env_kwargs = hyperparams["env_kwargs"]
+            # args.yml records the merged set: rl_zoo3's enjoy lets its env_kwargs replace
+            # the config's, which would drop the entry's keys.
+            self.args.env_kwargs = dict(hyperparams["env_kwargs"])
 
         self.tuning_spec = dict(hyperparams.pop("tuning", None) or {})
         if self.optimize_hyperparameters and self.algo in OUR_ALGOS:

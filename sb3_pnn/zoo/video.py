@@ -84,7 +84,7 @@ def _env_kwargs(args: argparse.Namespace, log_path: str, hyperparams: dict[str, 
         with open(args_path) as handle:
             loaded = yaml.load(handle, Loader=yaml.UnsafeLoader)  # the zoo's own file
         if loaded.get("env_kwargs") is not None:
-            env_kwargs = dict(loaded["env_kwargs"])
+            env_kwargs.update(loaded["env_kwargs"])
     if args.env_kwargs is not None:
         env_kwargs.update(args.env_kwargs)
     env_kwargs["render_mode"] = "rgb_array"

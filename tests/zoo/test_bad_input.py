@@ -216,3 +216,15 @@ def test_command_line_gives_one_line_and_status_2(tmp_path: Path) -> None:
     assert "Traceback" not in result.stderr
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("python -m sb3_pnn.train: error: missing")
+
+
+def test_unknown_setup(capsys, in_tmp) -> None:
+    line = train_fails(capsys, ["--algo", "dsac", "--env", PF_ENV, "--setup", "papr"])
+    assert "--setup 'papr': did you mean 'paper'?" in line and "ours, paper" in line
+
+
+def test_setup_and_conf_file_together(capsys, in_tmp) -> None:
+    (in_tmp / "mine.yml").write_text(DSAC_ENTRY)
+    argv = ["--algo", "dsac", "--env", PF_ENV, "--setup", "paper", "--conf-file", "mine.yml"]
+    line = train_fails(capsys, argv)
+    assert "--setup paper and --conf-file mine.yml both pick" in line

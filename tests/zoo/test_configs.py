@@ -1,4 +1,4 @@
-"""The shipped zoo_configs: every task each algo applies to, the paper's settings, valid entries."""
+"""The shipped zoo_configs: every task each algo applies to, both set-ups, valid entries."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import pytest
 
 import rov_envs
 from sb3_pnn import DiscreteSAC
+from sb3_pnn.reproduce.setups import SETUPS
 from sb3_pnn.zoo.configs import (
     CONFIG_ENV_VAR,
     default_config_path,
@@ -20,41 +21,67 @@ from sb3_pnn.zoo.registry import OUR_ALGOS
 
 PLANNING = [e for e in rov_envs.ENV_IDS if "/Planning" in e]
 APPLIES = {"dsac": list(rov_envs.ENV_IDS), "sac_multi": PLANNING, "pnn": PLANNING, "spnn": PLANNING}
-PAPER = {
+#: Tables 2-3 of the paper, the same in both shipped set-ups.
+TABLES_2_3 = {
     "learning_rate": 3e-4,
     "tau": 0.005,
     "gamma": 0.99,
     "ent_coef": "auto_0.2",
     "buffer_size": 1_000_000,
     "batch_size": 256,
-    "train_freq": [1, "episode"],
-    "gradient_steps": 10,
 }
 
 
-def entries(algo: str) -> dict:
-    return load_config_file(default_config_path(algo))
+def entries(algo: str, setup: str = "ours") -> dict:
+    return load_config_file(default_config_path(algo, setup))
 
 
+def as_zoo_train_freq(train_freq: list) -> object:
+    """rl_zoo3 writes ``[1, episode]`` for a tuple and a plain ``K`` for ``(K, "step")``."""
+    return train_freq[0] if train_freq[1] == "step" else list(train_freq)
+
+
+@pytest.mark.parametrize("setup", list(SETUPS))
 @pytest.mark.parametrize("algo", list(OUR_ALGOS))
-def test_every_task_the_algo_applies_to_has_a_valid_paper_entry(algo: str) -> None:
-    config = entries(algo)
-    path = default_config_path(algo)
-    assert path.parent.name == "zoo_configs"
+def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
+    """zoo_configs/<algo>.yml is the study's ``ours``, zoo_configs/paper/<algo>.yml its ``paper``:
+    the update schedule, network, learning_starts and every env keyword come from setups.py."""
+    training = SETUPS[setup]
+    sac = training.sac_kwargs(prior=False)
+    config = entries(algo, setup)
+    path = default_config_path(algo, setup)
+    assert path.parent.name == ("zoo_configs" if setup == "ours" else "paper")
     for env_id in APPLIES[algo]:
         entry = validate_entry(
             config[env_id], name=env_id, path=path, algo=algo, algo_class=OUR_ALGOS[algo]
         )
-        for key, value in PAPER.items():
+        for key, value in TABLES_2_3.items():
             assert entry[key] == value, (algo, env_id, key)
+        assert entry["train_freq"] == as_zoo_train_freq(sac["train_freq"]), (setup, env_id)
+        assert entry["gradient_steps"] == sac["gradient_steps"]
+        assert entry["learning_starts"] == sac["learning_starts"]
+        env_kwargs = dict(entry["env_kwargs"])
+        assert env_kwargs.pop("start_noise") == pytest.approx(
+            training.train_env_kwargs()["start_noise"]
+        )
+        expected = training.train_env_kwargs()
+        expected.pop("start_noise")
+        assert env_kwargs == expected, (setup, algo, env_id)
         if algo != "sac_multi":  # SAC-Multi takes its architecture from the prior
-            assert entry["policy_kwargs"]["net_arch"] == [255, 255]
+            assert entry["policy_kwargs"]["net_arch"] == sac["policy_kwargs"]["net_arch"]
         assert entry["n_timesteps"] > 0
 
 
+def test_setup_picks_the_folder_and_refuses_an_unknown_one() -> None:
+    assert default_config_path("dsac", "paper").parent.name == "paper"
+    with pytest.raises(ZooUsageError, match="--setup 'papr': did you mean 'paper'"):
+        default_config_path("dsac", "papr")
+
+
+@pytest.mark.parametrize("setup", list(SETUPS))
 @pytest.mark.parametrize("algo", ["pnn", "spnn", "sac_multi"])
-def test_priors_match_the_task(algo: str) -> None:
-    for env_id, entry in entries(algo).items():
+def test_priors_match_the_task(algo: str, setup: str) -> None:
+    for env_id, entry in entries(algo, setup).items():
         if env_id not in PLANNING:
             continue
         priors = [parse_prior(item, env_id) for item in entry["priors"]]

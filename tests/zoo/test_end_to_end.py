@@ -50,6 +50,9 @@ def test_spnn_trains_from_the_priors_train_made(spnn_run: Path, prior_logs: Path
     assert config["policy_kwargs"]["net_arch"] == [32, 32]  # -params merged over the config
     assert config["policy_kwargs"]["d_th"] == 12.5  # the config's (paper) value kept
     assert "priors" not in config and "tuning" not in config
+    env_kwargs = config["env_kwargs"]  # --env-kwargs merged key by key over the config's
+    assert env_kwargs["max_episode_seconds"] == 3
+    assert (env_kwargs["control_period"], env_kwargs["motion_obs"]) == (0.5, True)  # ours
 
 
 def test_tensorboard_has_custom_scalars(spnn_run: Path) -> None:
