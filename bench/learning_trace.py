@@ -17,6 +17,7 @@ Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup
 from __future__ import annotations
 
 import argparse
+import json
 import time
 
 import gymnasium as gym
@@ -102,7 +103,19 @@ def main() -> None:
         "--eval-every", type=int, default=0, help="also evaluate every N training episodes"
     )
     parser.add_argument("--save", default="", help="save the model here at the end")
+    parser.add_argument(
+        "--policy-kwargs",
+        default="{}",
+        metavar="JSON",
+        help="merged over the set-up's policy_kwargs, e.g. '{\"lateral_scale_init\": 0.1}'",
+    )
     args = parser.parse_args()
+    try:
+        extra_policy_kwargs = json.loads(args.policy_kwargs)
+    except json.JSONDecodeError as error:
+        parser.error(f"--policy-kwargs {args.policy_kwargs!r} is not JSON: {error}")
+    if not isinstance(extra_policy_kwargs, dict):
+        parser.error(f"--policy-kwargs {args.policy_kwargs!r}: expected a JSON object")
     wanted = {"sac": 0, "pnn": 1, "spnn": 2}[args.agent]
     if len(args.priors) != wanted:
         parser.error(
@@ -114,12 +127,13 @@ def main() -> None:
         parser.error(str(error))
     th.set_num_threads(1)
     print(f"set-up: {setup.to_dict()}", flush=True)
-    sac = setup.sac_kwargs()
+    sac = setup.sac_kwargs(agent=args.agent)
     sac["train_freq"] = tuple(sac["train_freq"])
     env = gym.make(args.env, **setup.train_env_kwargs())
     policy = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}
     if args.agent != "sac":
         sac["policy_kwargs"]["priors"] = args.priors
+    sac["policy_kwargs"].update(extra_policy_kwargs)
     if args.agent == "spnn":
         sac["policy_kwargs"]["sonar_range"] = float(env.unwrapped.sonar_range)
     model = DiscreteSAC(policy[args.agent], env, seed=args.seed, device="cpu", **sac)

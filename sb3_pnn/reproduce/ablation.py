@@ -44,6 +44,11 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "updates": ("step:4",),
     "target_entropy_ratio": (0.2,),
 }
+#: Factors no ablation task reads (no cell for them), with where they are measured instead.
+NOT_ABLATED: dict[str, str] = {
+    "pnn_lateral_init": "only PNN reads it and no ablation task trains PNN; measured with "
+    "bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
+}
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5
 
@@ -109,7 +114,7 @@ def _factor_values(name: str) -> list[Any]:
 def all_cells() -> list[AblationCell]:
     """Every cell, in report order (see the module docstring)."""
     cells = [AblationCell("paper", PAPER)]
-    names = list(PAPER.to_dict())
+    names = [name for name in PAPER.to_dict() if name not in NOT_ABLATED]
     for base_name, base in (("paper", PAPER), ("ours", OURS)):
         if base_name == "ours":
             cells.append(AblationCell("ours", OURS))

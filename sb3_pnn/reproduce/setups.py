@@ -32,6 +32,10 @@ Factors:
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
 * ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
   the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
+* ``pnn_lateral_init``: PNN's lateral connections (eq. 13) are scaled by a learned scalar per
+  lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
+  0 starts the new column as a network without priors (SAC-Single) that learns how much of the
+  prior's features to take. Only PNN runs read it.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.validation.VALIDATION_SEED`, apart from the evaluation's),
@@ -89,6 +93,7 @@ class TrainingSetup:
     net_arch: tuple[int, ...] = (255, 255)
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     keep_best: bool = False
+    pnn_lateral_init: float = 1.0
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
@@ -118,9 +123,10 @@ class TrainingSetup:
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
         return {**self.env_kwargs(), "start_noise": list(noise)}
 
-    def sac_kwargs(self, prior: bool = False) -> dict[str, Any]:
+    def sac_kwargs(self, prior: bool = False, agent: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
-        ``prior``, those of a source column's run (``prior_updates``)."""
+        ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
+        PNN's ``lateral_scale_init``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -133,6 +139,8 @@ class TrainingSetup:
         # hashes) of runs made before this factor existed stay the same.
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
+        if agent == "pnn" and self.pnn_lateral_init != 1.0:  # the same rule
+            kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
         return kwargs
 
     def validation(self) -> dict[str, int]:
@@ -173,6 +181,7 @@ OURS = TrainingSetup(
     progress_weighted=True,
     net_arch=(64, 64),
     keep_best=True,
+    pnn_lateral_init=0.0,
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -190,6 +199,7 @@ FACTOR_LABELS: dict[str, str] = {
     "net_arch": "hidden layers",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
+    "pnn_lateral_init": "PNN lateral scale at the start",
 }
 
 

@@ -7,6 +7,7 @@ from reproduce_standins import fake_work
 
 from sb3_pnn.reproduce.ablation import (
     CELLS,
+    NOT_ABLATED,
     TASKS,
     AblationConfig,
     all_cells,
@@ -28,8 +29,13 @@ def test_each_cell_changes_one_factor_of_its_base() -> None:
         else:
             factor = cell.name.split("+")[1].split("=")[0]
             assert list(changed) == [factor], cell.name
-    # every departure of OURS is tried alone on the paper and put back alone in ours
+    # every departure of OURS is tried alone on the paper and put back alone in ours, unless
+    # no ablation task reads it (then the reason names where it is measured)
     for factor in OURS.differences(PAPER):
+        if factor in NOT_ABLATED:
+            assert not any(f"+{factor}=" in c.name for c in cells)
+            assert "learning_trace" in NOT_ABLATED[factor]
+            continue
         assert any(c.name.startswith(f"paper+{factor}=") for c in cells)
         assert any(c.name.startswith(f"ours+{factor}=") for c in cells)
     # the issue's factors: the vehicle, and 1 update per k steps
@@ -114,3 +120,25 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     assert (out / "report.md").read_text().split("Runs finished")[0] == report.split(
         "Runs finished"
     )[0]
+
+
+def test_pnn_lateral_init_reaches_only_pnn_runs() -> None:
+    """``--set pnn_lateral_init=0`` gives PNN's policy lateral_scale_init 0 and nothing else
+    changes; at 1 (the paper's) no key is written, so earlier runs keep their hash."""
+    from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+
+    def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
+        config = StudyConfig(
+            budget_name="quick", seeds=1, setup_name="paper", setup_changes=changes
+        )
+        plan = build_plan(config)
+        return {s.agent: s.sac_kwargs["policy_kwargs"] for s in plan if s.kind == "transfer"}
+
+    default = kwargs_by_agent(())
+    zero = kwargs_by_agent((("pnn_lateral_init", 0.0),))
+    assert all("lateral_scale_init" not in kw for kw in default.values())
+    assert zero["pnn"]["lateral_scale_init"] == 0.0
+    assert OURS.sac_kwargs(agent="pnn")["policy_kwargs"]["lateral_scale_init"] == 0.0
+    assert {a: kw for a, kw in zero.items() if a != "pnn"} == {
+        a: kw for a, kw in default.items() if a != "pnn"
+    }

@@ -47,7 +47,7 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
     """zoo_configs/<algo>.yml is the study's ``ours``, zoo_configs/paper/<algo>.yml its ``paper``:
     the update schedule, network, learning_starts and every env keyword come from setups.py."""
     training = SETUPS[setup]
-    sac = training.sac_kwargs(prior=False)
+    sac = training.sac_kwargs(prior=False, agent=algo)
     config = entries(algo, setup)
     path = default_config_path(algo, setup)
     assert path.parent.name == ("zoo_configs" if setup == "ours" else "paper")
@@ -68,7 +68,9 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
         expected.pop("start_noise")
         assert env_kwargs == expected, (setup, algo, env_id)
         if algo != "sac_multi":  # SAC-Multi takes its architecture from the prior
-            assert entry["policy_kwargs"]["net_arch"] == sac["policy_kwargs"]["net_arch"]
+            for key, value in sac["policy_kwargs"].items():
+                assert entry["policy_kwargs"][key] == value, (setup, algo, key)
+            assert "lateral_scale_init" not in entry["policy_kwargs"] or algo == "pnn"
         assert entry["n_timesteps"] > 0
 
 
