@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from sb3_pnn.reproduce.ablation import BUDGETS, CELLS, TASKS, AblationConfig, build_ablation_plan
+from sb3_pnn.reproduce.cli import positive_int
 from sb3_pnn.reproduce.store import StudyConflictError, open_store_or_exit, write_json_atomic
 
 DEFAULT_OUT = "results/ablation"
@@ -45,16 +46,6 @@ def _names(kind: str, known: Sequence[str]) -> Any:
     return parse
 
 
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {value}")
-    return value
-
-
 def make_parser() -> argparse.ArgumentParser:
     full = BUDGETS["full"]
     parser = argparse.ArgumentParser(
@@ -67,9 +58,11 @@ def make_parser() -> argparse.ArgumentParser:
         + f" training episodes, {full.eval_episodes} evaluation episodes per run.",
     )
     parser.add_argument("--quick", action="store_true", help="smoke test: small budgets")
-    parser.add_argument("--seeds", type=_positive, default=3, help="seeds per cell (default 3)")
     parser.add_argument(
-        "--jobs", type=_positive, default=os.cpu_count() or 1, help="runs in parallel"
+        "--seeds", type=positive_int("--seeds"), default=3, help="seeds per cell (default 3)"
+    )
+    parser.add_argument(
+        "--jobs", type=positive_int("--jobs"), default=os.cpu_count() or 1, help="runs in parallel"
     )
     parser.add_argument("--out", default=DEFAULT_OUT, help=f"folder (default {DEFAULT_OUT})")
     parser.add_argument(

@@ -39,7 +39,9 @@ DEFAULT_SEEDS = {"full": 5, "quick": 2, "tiny": 2}
 SESSIONS = "sessions.json"
 
 
-def _positive_int(name: str) -> Any:
+def positive_int(name: str) -> Any:
+    """argparse type: an integer >= 1; the error names the option ``name``."""
+
     def parse(text: str) -> int:
         try:
             value = int(text)
@@ -81,14 +83,14 @@ def make_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--seeds",
-        type=_positive_int("--seeds"),
+        type=positive_int("--seeds"),
         default=None,
         help=f"training seeds per agent and task (default {DEFAULT_SEEDS['full']}; "
         f"{DEFAULT_SEEDS['quick']} with --quick)",
     )
     parser.add_argument(
         "--jobs",
-        type=_positive_int("--jobs"),
+        type=positive_int("--jobs"),
         default=os.cpu_count() or 1,
         help="runs in parallel (default: number of cores)",
     )
@@ -97,13 +99,13 @@ def make_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--episodes",
-        type=_positive_int("--episodes"),
+        type=positive_int("--episodes"),
         default=None,
         help="training episodes of every agent on the planning tasks",
     )
     parser.add_argument(
         "--eval-episodes",
-        type=_positive_int("--eval-episodes"),
+        type=positive_int("--eval-episodes"),
         default=None,
         help="evaluation episodes per policy and task",
     )

@@ -16,6 +16,7 @@ import os
 import platform
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, pooled_success
@@ -382,6 +383,18 @@ def claims(results: StudyResults, speed: dict[tuple[str, str], dict[str, Any]]) 
     return rows
 
 
+def _adopted_text(results: Any) -> str:
+    """How many runs came from an older folder (``python -m sb3_pnn.reproduce.adopt``)."""
+    adopted = [r for r in results.runs.values() if "adopted" in r.manifest]
+    if not adopted:
+        return ""
+    origins = sorted({str(Path(r.manifest["adopted"]["from"]).parent.parent) for r in adopted})
+    return (
+        f"; {len(adopted)} of them adopted unchanged from {', '.join(origins)} "
+        "(`python -m sb3_pnn.reproduce.adopt`; their invocations are counted below)"
+    )
+
+
 def _sessions_text(sessions: list[dict[str, Any]]) -> str:
     return ", ".join(f"{s['wall_s'] / 60:.1f} min with --jobs {s['jobs']}" for s in sessions)
 
@@ -477,7 +490,7 @@ def write_report(
         "alpha from 0.2, buffer 1e6, batch 256), learning_starts 256",
         f"- runs finished: {len(results.runs)} ({len(train_runs)} trained); "
         f"missing: {len(results.missing)}; "
-        f"failed: {len(results.failures)}",
+        f"failed: {len(results.failures)}{_adopted_text(results)}",
         f"- wall-clock: {total_wall / 60:.1f} min over {len(sessions)} invocation(s) "
         f"({_sessions_text(sessions)}); "
         f"sum of run wall times {run_s / 60:.1f} min; sum of run CPU times {cpu_s / 60:.1f} min, "
