@@ -197,6 +197,9 @@ class ProgressivePolicy(DiscreteSACPolicy):
         (weights then come from the saved state dict); set by :meth:`portable_policy_kwargs`
     :param learn_lateral_scale: Learn Rusu et al.'s scalar per lateral connection
     :param lateral_scale_init: Initial value of that scalar (the constant when not learned)
+    :param critic_priors: Give the critics' Q-networks the priors' critic columns (the paper's
+        Algorithm 1 transfers Q too); False: the critics are plain MLPs over the new observation
+        and only the actor reads the priors (an ablation)
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -221,6 +224,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         prior_specs: Sequence[dict[str, Any] | PriorSpec] | None = None,
         learn_lateral_scale: bool = True,
         lateral_scale_init: float = 1.0,
+        critic_priors: bool = True,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         if features_extractor_class is None:
@@ -245,6 +249,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         ]
         self.learn_lateral_scale = learn_lateral_scale
         self.lateral_scale_init = lateral_scale_init
+        self.critic_priors = bool(critic_priors)
         self._user_kwargs = dict(
             net_arch=net_arch,
             activation_fn=activation_fn,
@@ -287,6 +292,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         return dict(
             learn_lateral_scale=self.learn_lateral_scale,
             lateral_scale_init=self.lateral_scale_init,
+            critic_priors=self.critic_priors,
         )
 
     # --- networks -------------------------------------------------------------------------
@@ -346,13 +352,18 @@ class ProgressivePolicy(DiscreteSACPolicy):
         sigma, own = self._mixing()
         fdim = kwargs["features_dim"]
         hidden = list(kwargs["net_arch"])
+        feeds = self.feeds if self.critic_priors else []
+
+        def columns(i: int) -> list[FrozenColumn]:
+            return self._columns("critic", i) if self.critic_priors else []
+
         critic = ProgressiveCritic(
             self.observation_space,
             self.action_space,
             kwargs["features_extractor"],
             fdim,
-            [self._net(fdim, hidden, self._columns("critic", i)) for i in range(self.n_critics)],
-            self.feeds,
+            [self._net(fdim, hidden, columns(i)) for i in range(self.n_critics)],
+            feeds,
             [self._make_gate(fdim) for _ in range(self.n_critics)],
             sigma=sigma,
             own_weight=own,

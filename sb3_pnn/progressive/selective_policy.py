@@ -104,6 +104,7 @@ class SelectivePolicy(ProgressivePolicy):
         gate: str = "hard",
         temperature: float = 1.0,
         gate_hidden: int = 32,
+        critic_priors: bool = True,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -143,6 +144,7 @@ class SelectivePolicy(ProgressivePolicy):
             prior_specs,
             learn_lateral_scale,
             lateral_scale_init,
+            critic_priors,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

@@ -111,3 +111,22 @@ def test_fixed_lateral_scale_is_eq13_exactly(priors):
     policy = _model(priors, learn_lateral_scale=False).policy
     assert "lateral_scale" not in dict(policy.actor.net.named_parameters())
     assert th.equal(policy.actor.net.lateral_scale, th.ones(3, 2))
+
+
+def test_critics_without_priors_are_plain_columns_and_survive_save_load(priors, tmp_path):
+    model = _model(priors, critic_priors=False)
+    policy = model.policy
+    assert len(policy.actor.net.priors) == 2  # the actor still reads both priors
+    obs, _ = policy.obs_to_tensor(batch(policy.observation_space, 8))
+    with th.no_grad():
+        features = policy.critic.features_extractor(obs)
+        for q_net, q in zip(policy.critic.q_networks, policy.critic(obs), strict=True):
+            assert len(q_net.priors) == 0 and len(q_net.laterals) == 0
+            assert th.allclose(q, _new_column_alone(q_net, features), atol=1e-6)
+    model.learn(60)
+    model.save(tmp_path / "m.zip")
+    loaded = DiscreteSAC.load(tmp_path / "m.zip")
+    assert loaded.policy.critic_priors is False
+    with th.no_grad():
+        assert th.equal(loaded.policy.critic(obs)[0], policy.critic(obs)[0])
+        assert th.equal(loaded.policy.actor(obs), policy.actor(obs))
