@@ -22,7 +22,6 @@ Usage (the study's own arguments after ``--``, as for ``python -m sb3_pnn.reprod
 from __future__ import annotations
 
 import argparse
-import hashlib
 import json
 import shutil
 import sys
@@ -30,14 +29,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.plan import RunSpec
+from sb3_pnn.reproduce.plan import RunSpec, json_hash
 from sb3_pnn.reproduce.store import MANIFEST, RunStore, write_json_atomic
 
 
 def legacy_hash(spec: RunSpec) -> str:
     """The configuration hash runs had before it included the tasks' revision."""
-    blob = json.dumps(spec.to_dict(), sort_keys=True).encode()
-    return hashlib.sha256(blob).hexdigest()[:16]
+    return json_hash(spec.to_dict())
 
 
 def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
@@ -45,11 +43,10 @@ def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
         return "not in the old folder"
     if old.get("status", "done") != "done":
         return f"status {old.get('status')!r}"
-    if old.get("spec") != spec.to_dict():
+    stored, planned = old.get("spec") or {}, spec.to_dict()
+    if stored != planned:
         changed = sorted(
-            k
-            for k in set(old.get("spec") or {}) | set(spec.to_dict())
-            if (old.get("spec") or {}).get(k) != spec.to_dict().get(k)
+            k for k in stored.keys() | planned.keys() if stored.get(k) != planned.get(k)
         )
         return f"spec differs in {', '.join(changed)}"
     if old.get("config_hash") not in (legacy_hash(spec), spec.config_hash()):
@@ -102,19 +99,13 @@ def adopt_runs(
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    from sb3_pnn.reproduce.cli import DEFAULT_OUT, SESSIONS, config_from_args, make_parser
+    from sb3_pnn.reproduce.cli import SESSIONS, out_folder, parse_study_args
     from sb3_pnn.reproduce.plan import build_plan
     from sb3_pnn.reproduce.store import open_store_or_exit
 
     argv = list(sys.argv[1:] if argv is None else argv)
-    own, study = (
-        (argv[: argv.index("--")], argv[argv.index("--") + 1 :])
-        if "--" in argv
-        else (
-            argv,
-            [],
-        )
-    )
+    cut = argv.index("--") if "--" in argv else len(argv)
+    own, study = argv[:cut], argv[cut + 1 :]
     parser = argparse.ArgumentParser(
         prog="python -m sb3_pnn.reproduce.adopt",
         description=__doc__.split("\n\n")[0],
@@ -128,16 +119,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="the TASKS_REVISION of the code that made the old runs (from its commit)",
     )
     args = parser.parse_args(own)
-    study_parser = make_parser()
-    study_args = study_parser.parse_args(study)
-    try:
-        config = config_from_args(study_args)
-    except ValueError as error:
-        study_parser.error(str(error))
+    study_parser, study_args, config = parse_study_args(study)
     old = Path(args.old)
     if not (old / "runs").is_dir():
         parser.error(f"--from {args.old!r} is not a study folder (it has no runs/)")
-    out = Path(study_args.out or DEFAULT_OUT)
+    out = out_folder(study_args)
     if out.resolve() == old.resolve():
         parser.error("--from and --out are the same folder")
     store = open_store_or_exit(study_parser, out)

@@ -161,6 +161,25 @@ def config_from_args(args: argparse.Namespace) -> StudyConfig:
     )
 
 
+def parse_study_args(
+    argv: Sequence[str],
+) -> tuple[argparse.ArgumentParser, argparse.Namespace, StudyConfig]:
+    """Parser, parsed arguments and the study they ask for; a bad ``--set`` exits through
+    ``parser.error`` (status 2)."""
+    parser = make_parser()
+    args = parser.parse_args(argv)
+    try:
+        config = config_from_args(args)
+    except ValueError as error:
+        parser.error(str(error))
+    return parser, args, config
+
+
+def out_folder(args: argparse.Namespace) -> Path:
+    """The study folder: ``--out``, else the default for the budget."""
+    return Path(args.out or ("results/quick" if args.quick else DEFAULT_OUT))
+
+
 def _load_sessions(out: Path) -> list[dict[str, Any]]:
     import json
 
@@ -188,13 +207,8 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
         from sb3_pnn.reproduce.ablation_cli import main as ablation_main
 
         return ablation_main([a for a in argv if a != "--ablation"], work=work)
-    parser = make_parser()
-    args = parser.parse_args(argv)
-    try:
-        config = config_from_args(args)
-    except ValueError as error:
-        parser.error(str(error))
-    out = Path(args.out or ("results/quick" if args.quick else DEFAULT_OUT))
+    parser, args, config = parse_study_args(argv)
+    out = out_folder(args)
     store = open_store_or_exit(parser, out)
     try:
         from sb3_pnn.reproduce.executor import execute

@@ -221,9 +221,12 @@ class RunSpec:
         and the revision of the task definitions (``rov_envs.tasks.TASKS_REVISION``)."""
         from rov_envs.tasks import TASKS_REVISION
 
-        data = {**self.to_dict(), "tasks_revision": TASKS_REVISION}
-        blob = json.dumps(data, sort_keys=True).encode()
-        return hashlib.sha256(blob).hexdigest()[:16]
+        return json_hash({**self.to_dict(), "tasks_revision": TASKS_REVISION})
+
+
+def json_hash(data: dict[str, Any]) -> str:
+    """SHA-256 (16 hex digits) of ``data`` as sorted-key JSON: how run configurations are hashed."""
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def prior_run_id(name: str, seed: int) -> str:
