@@ -249,7 +249,9 @@ class ProgressivePolicy(DiscreteSACPolicy):
         ]
         self.learn_lateral_scale = learn_lateral_scale
         self.lateral_scale_init = lateral_scale_init
-        self.critic_priors = bool(critic_priors)
+        if not isinstance(critic_priors, bool):
+            raise ValueError(f"critic_priors must be True or False, got {critic_priors!r}")
+        self.critic_priors = critic_priors
         self._user_kwargs = dict(
             net_arch=net_arch,
             activation_fn=activation_fn,

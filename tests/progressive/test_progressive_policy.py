@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 import torch as th
 import torch.nn.functional as F
 from pnn_toys import ToyRovEnv, batch
@@ -130,3 +131,8 @@ def test_critics_without_priors_are_plain_columns_and_survive_save_load(priors, 
     with th.no_grad():
         assert th.equal(loaded.policy.critic(obs)[0], policy.critic(obs)[0])
         assert th.equal(loaded.policy.actor(obs), policy.actor(obs))
+
+
+def test_critic_priors_must_be_a_bool(priors):
+    with pytest.raises(ValueError, match="critic_priors must be True or False, got 'false'"):
+        _model(priors, critic_priors="false")  # a YAML string would otherwise read as True
