@@ -54,13 +54,8 @@ def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
     return None
 
 
-def adopt_runs(
-    old_out: Path, store: RunStore, plan: Sequence[RunSpec], revision: int
-) -> tuple[list[str], dict[str, str]]:
-    """Copy the matching finished runs of ``old_out`` into ``store``.
-
-    Returns (adopted run ids, {run id: why it was not adopted}).
-    """
+def check_revision(revision: int) -> None:
+    """ValueError unless ``revision`` is today's ``TASKS_REVISION``."""
     from rov_envs.tasks import TASKS_REVISION
 
     if revision != TASKS_REVISION:
@@ -68,6 +63,16 @@ def adopt_runs(
             f"--made-with-tasks-revision {revision}: today's task definitions are revision "
             f"{TASKS_REVISION}; runs made with other definitions cannot be adopted"
         )
+
+
+def adopt_runs(
+    old_out: Path, store: RunStore, plan: Sequence[RunSpec], revision: int
+) -> tuple[list[str], dict[str, str]]:
+    """Copy the matching finished runs of ``old_out`` into ``store``.
+
+    Returns (adopted run ids, {run id: why it was not adopted}).
+    """
+    check_revision(revision)
     old_store = RunStore(old_out)
     adopted: list[str] = []
     skipped: dict[str, str] = {}
@@ -126,11 +131,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     out = out_folder(study_args)
     if out.resolve() == old.resolve():
         parser.error("--from and --out are the same folder")
+    try:  # before the new folder is created
+        check_revision(args.made_with_tasks_revision)
+    except ValueError as error:
+        parser.error(str(error))
     store = open_store_or_exit(study_parser, out)
     try:
         adopted, skipped = adopt_runs(old, store, build_plan(config), args.made_with_tasks_revision)
-    except ValueError as error:
-        parser.error(str(error))
     finally:
         store.close()
     if adopted and (old / SESSIONS).is_file() and not (out / SESSIONS).exists():

@@ -78,6 +78,11 @@ def test_command_line_adopts_and_names_bad_folders(tmp_path, capsys) -> None:
     with pytest.raises(SystemExit):
         main(["--from", str(tmp_path / "nowhere"), "--made-with-tasks-revision", rev, "--"])
     assert "is not a study folder" in capsys.readouterr().err
+    wrong = ["--from", str(tmp_path / "old"), "--made-with-tasks-revision", str(TASKS_REVISION + 1)]
+    with pytest.raises(SystemExit):
+        main([*wrong, "--", "--tiny", "--out", str(tmp_path / "other")])
+    assert f"today's task definitions are revision {TASKS_REVISION}" in capsys.readouterr().err
+    assert not (tmp_path / "other").exists()  # refused before the folder is made
 
 
 def test_report_names_the_adopted_runs(tmp_path, capsys) -> None:
