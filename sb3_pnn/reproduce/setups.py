@@ -36,6 +36,11 @@ Factors:
   lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
   0 starts the new column as a network without priors (SAC-Single) that learns how much of the
   prior's features to take. Only PNN runs read it.
+* ``pnn_critic_priors``: PNN's critics (Q-networks) are progressive columns that read the frozen
+  prior's critic too, as Algorithm 1 transfers Q_theta along with pi_phi (written for SPNN);
+  off: the critics are plain networks and only the actor reads the prior
+  (``ProgressivePolicy(critic_priors=False)``), as section 3.2 names only the policy pi_phi_lambda
+  as PNN's first column. Only PNN runs read it.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.validation.VALIDATION_SEED`, apart from the evaluation's),
@@ -94,6 +99,7 @@ class TrainingSetup:
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
+    pnn_critic_priors: bool = True
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
@@ -126,7 +132,7 @@ class TrainingSetup:
     def sac_kwargs(self, prior: bool = False, agent: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
-        PNN's ``lateral_scale_init``."""
+        PNN's ``lateral_scale_init`` and ``critic_priors``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -141,6 +147,8 @@ class TrainingSetup:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
         if agent == "pnn" and self.pnn_lateral_init != 1.0:  # the same rule
             kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
+        if agent == "pnn" and not self.pnn_critic_priors:  # the same rule
+            kwargs["policy_kwargs"]["critic_priors"] = False
         return kwargs
 
     def validation(self) -> dict[str, int]:
@@ -200,6 +208,7 @@ FACTOR_LABELS: dict[str, str] = {
     "target_entropy_ratio": "target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
     "pnn_lateral_init": "PNN lateral scale at the start",
+    "pnn_critic_priors": "PNN critics read the prior's critic",
 }
 
 

@@ -15,7 +15,13 @@ from sb3_pnn.reproduce.ablation import (
     run_id,
 )
 from sb3_pnn.reproduce.cli import main
-from sb3_pnn.reproduce.setups import OURS, PAPER, TrainingSetup, parse_updates
+from sb3_pnn.reproduce.setups import (
+    OURS,
+    PAPER,
+    TrainingSetup,
+    parse_setup_changes,
+    parse_updates,
+)
 
 
 def test_each_cell_changes_one_factor_of_its_base() -> None:
@@ -122,18 +128,19 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     )[0]
 
 
+def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
+    """The policy keyword arguments of each transfer agent in a one-seed study of ``paper``
+    with ``changes``."""
+    from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+
+    config = StudyConfig(budget_name="quick", seeds=1, setup_name="paper", setup_changes=changes)
+    plan = build_plan(config)
+    return {s.agent: s.sac_kwargs["policy_kwargs"] for s in plan if s.kind == "transfer"}
+
+
 def test_pnn_lateral_init_reaches_only_pnn_runs() -> None:
     """``--set pnn_lateral_init=0`` gives PNN's policy lateral_scale_init 0 and nothing else
     changes; at 1 (the paper's) no key is written, so earlier runs keep their hash."""
-    from sb3_pnn.reproduce.plan import StudyConfig, build_plan
-
-    def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
-        config = StudyConfig(
-            budget_name="quick", seeds=1, setup_name="paper", setup_changes=changes
-        )
-        plan = build_plan(config)
-        return {s.agent: s.sac_kwargs["policy_kwargs"] for s in plan if s.kind == "transfer"}
-
     default = kwargs_by_agent(())
     zero = kwargs_by_agent((("pnn_lateral_init", 0.0),))
     assert all("lateral_scale_init" not in kw for kw in default.values())
@@ -142,3 +149,16 @@ def test_pnn_lateral_init_reaches_only_pnn_runs() -> None:
     assert {a: kw for a, kw in zero.items() if a != "pnn"} == {
         a: kw for a, kw in default.items() if a != "pnn"
     }
+
+
+def test_pnn_critic_priors_reaches_only_pnn_runs() -> None:
+    """``--set pnn_critic_priors=false`` gives PNN's policy critic_priors=False and nothing else
+    changes; at True (the paper's Algorithm 1) no key is written: earlier runs keep their hash."""
+    default = kwargs_by_agent(())
+    off = kwargs_by_agent((("pnn_critic_priors", False),))
+    assert all("critic_priors" not in kw for kw in default.values())
+    assert off["pnn"]["critic_priors"] is False
+    assert {a: kw for a, kw in off.items() if a != "pnn"} == {
+        a: kw for a, kw in default.items() if a != "pnn"
+    }
+    assert parse_setup_changes(["pnn_critic_priors=false"]) == {"pnn_critic_priors": False}
