@@ -7,6 +7,10 @@ cheapest off-policy update SB3 ships), on PlanningStraight-v0's observation, bat
 ratio DiscreteSAC / DQN. Timings alternate between the learners, ``--repeats`` rounds, and the
 median round is kept, so that other load on the machine affects all of them alike.
 
+A second table gives the cost of ``predict`` on one observation, what every environment step of
+a training run pays beside the updates (SB3 switches the policy to eval mode, converts the
+observation, runs the actor), with the same anchor.
+
 Usage: python bench/dsac_update.py [--nets 64,64 255,255] [--updates 200] [--repeats 5]
 """
 
@@ -38,6 +42,21 @@ def _cost(model, updates: int, batch: int) -> float:
     start = time.process_time()
     model.train(updates, batch)
     return (time.process_time() - start) / updates * 1e3
+
+
+def _predict_cost(model, obs, calls: int) -> float:
+    start = time.process_time()
+    for _ in range(calls):
+        model.predict(obs, deterministic=False)
+    return (time.process_time() - start) / calls * 1e3
+
+
+def _print_rounds(title: str, rounds: dict[str, list[float]], unit: str) -> None:
+    anchor = statistics.median(rounds["DQN (anchor)"])
+    print(title)
+    for name, values in rounds.items():
+        ms = statistics.median(values)
+        print(f"  {name:<27} {ms:7.3f} ms {unit}  ({ms / anchor:4.2f}x DQN)")
 
 
 def main() -> None:
@@ -98,11 +117,14 @@ def main() -> None:
             for _ in range(args.repeats):
                 for name, model in learners.items():
                     rounds[name].append(_cost(model, args.updates, args.batch))
-            anchor = statistics.median(rounds["DQN (anchor)"])
-            print(f"networks {arch}, batch {args.batch}, one torch thread (median of rounds):")
-            for name, values in rounds.items():
-                ms = statistics.median(values)
-                print(f"  {name:<27} {ms:7.2f} ms per gradient step  ({ms / anchor:4.2f}x DQN)")
+            title = f"networks {arch}, batch {args.batch}, one torch thread (median of rounds):"
+            _print_rounds(title, rounds, "per gradient step")
+            obs, _ = env.reset(seed=0)
+            predicts = {name: [] for name in learners}
+            for _ in range(args.repeats):
+                for name, model in learners.items():
+                    predicts[name].append(_predict_cost(model, obs, 10 * args.updates))
+            _print_rounds(f"networks {arch}, predict on one observation:", predicts, "per call")
 
 
 if __name__ == "__main__":

@@ -334,17 +334,30 @@ class DiscreteSACPolicy(BasePolicy):
         """
         Train/eval mode of actor and critic (the target always stays in eval mode).
 
-        SB3 calls this before every ``predict``, i.e. every environment step; walking all
-        submodules with ``nn.Module.train`` each time was a fifth of the cost of a CartPole
-        step, so it only reads the flags when every actor and critic module is already in that
-        mode.
+        SB3 calls this before every ``predict``, i.e. every environment step, and DiscreteSAC
+        before every ``train``; walking all submodules with ``nn.Module.train`` each time was a
+        fifth of the cost of a CartPole step. The last switch leaves a flat list of the actor's
+        and critic's modules with the flag each was left with (a frozen prior column stays in
+        eval mode whatever the mode), and a repeated switch to the same mode only compares those
+        flags; a module whose flag was changed by hand since then makes it switch again.
         """
-        modules = itertools.chain(self.actor.modules(), self.critic.modules())
-        if self.training == mode and all(m.training == mode for m in modules):
+        snapshot = self.__dict__.get("_mode_snapshot")
+        owners = (self.actor, self.critic)
+        if (
+            snapshot is not None
+            and self.training == mode
+            and snapshot[0] == mode
+            and snapshot[1][0] is owners[0]
+            and snapshot[1][1] is owners[1]
+            and all(m.training == flag for m, flag in snapshot[2])
+        ):
             return
         self.actor.set_training_mode(mode)
         self.critic.set_training_mode(mode)
         self.training = mode
+        modules = itertools.chain(self.actor.modules(), self.critic.modules())
+        # in __dict__ directly: a plain attribute, not a registered submodule or state
+        self.__dict__["_mode_snapshot"] = (mode, owners, [(m, m.training) for m in modules])
 
 
 MlpPolicy = DiscreteSACPolicy
