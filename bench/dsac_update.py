@@ -44,6 +44,15 @@ def _cost(model, updates: int, batch: int) -> float:
     return (time.process_time() - start) / updates * 1e3
 
 
+def _rounds(learners: dict, repeats: int, measure) -> dict[str, list[float]]:
+    """``repeats`` rounds of ``measure(model)``, alternating between the learners."""
+    rounds: dict[str, list[float]] = {name: [] for name in learners}
+    for _ in range(repeats):
+        for name, model in learners.items():
+            rounds[name].append(measure(model))
+    return rounds
+
+
 def _predict_cost(model, obs, calls: int) -> float:
     start = time.process_time()
     for _ in range(calls):
@@ -113,17 +122,13 @@ def main() -> None:
             for model in learners.values():
                 _filled(model, 2 * args.batch)
                 _cost(model, 10, args.batch)  # warm-up
-            rounds = {name: [] for name in learners}
-            for _ in range(args.repeats):
-                for name, model in learners.items():
-                    rounds[name].append(_cost(model, args.updates, args.batch))
+            rounds = _rounds(learners, args.repeats, lambda m: _cost(m, args.updates, args.batch))
             title = f"networks {arch}, batch {args.batch}, one torch thread (median of rounds):"
             _print_rounds(title, rounds, "per gradient step")
             obs, _ = env.reset(seed=0)
-            predicts = {name: [] for name in learners}
-            for _ in range(args.repeats):
-                for name, model in learners.items():
-                    predicts[name].append(_predict_cost(model, obs, 10 * args.updates))
+            predicts = _rounds(
+                learners, args.repeats, lambda m, obs=obs: _predict_cost(m, obs, 10 * args.updates)
+            )
             _print_rounds(f"networks {arch}, predict on one observation:", predicts, "per call")
 
 

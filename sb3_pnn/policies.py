@@ -341,23 +341,24 @@ class DiscreteSACPolicy(BasePolicy):
         eval mode whatever the mode), and a repeated switch to the same mode only compares those
         flags; a module whose flag was changed by hand since then makes it switch again.
         """
-        snapshot = self.__dict__.get("_mode_snapshot")
-        owners = (self.actor, self.critic)
+        # (mode, actor, critic, [(module, flag)]) of the last switch; kept in __dict__ directly
+        # so that it is a plain attribute, not a registered submodule or saved state
+        last = self.__dict__.get("_last_mode_switch")
         if (
-            snapshot is not None
-            and self.training == mode
-            and snapshot[0] == mode
-            and snapshot[1][0] is owners[0]
-            and snapshot[1][1] is owners[1]
-            and all(m.training == flag for m, flag in snapshot[2])
+            last is not None
+            and last[0] == mode == self.training
+            and last[1] is self.actor
+            and last[2] is self.critic
+            and all(m.training == flag for m, flag in last[3])
         ):
             return
         self.actor.set_training_mode(mode)
         self.critic.set_training_mode(mode)
         self.training = mode
-        modules = itertools.chain(self.actor.modules(), self.critic.modules())
-        # in __dict__ directly: a plain attribute, not a registered submodule or state
-        self.__dict__["_mode_snapshot"] = (mode, owners, [(m, m.training) for m in modules])
+        flags = [
+            (m, m.training) for m in itertools.chain(self.actor.modules(), self.critic.modules())
+        ]
+        self.__dict__["_last_mode_switch"] = (mode, self.actor, self.critic, flags)
 
 
 MlpPolicy = DiscreteSACPolicy

@@ -45,11 +45,12 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "target_entropy_ratio": (0.2,),
 }
 #: Factors no ablation task reads (no cell for them), with where they are measured instead.
+_ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
 NOT_ABLATED: dict[str, str] = {
-    "pnn_lateral_init": "only PNN reads it and no ablation task trains PNN; measured with "
-    "bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
-    "pnn_critic_priors": "only PNN reads it and no ablation task trains PNN; measured by "
-    "retraining the 5-seed study's PNN runs with it off (docs/ablation/pnn_critic_priors)",
+    "pnn_lateral_init": _ONLY_PNN
+    + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
+    "pnn_critic_priors": _ONLY_PNN
+    + "by retraining the 5-seed study's PNN runs with it off (docs/ablation/pnn_critic_priors)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

@@ -145,10 +145,11 @@ class TrainingSetup:
         # hashes) of runs made before this factor existed stay the same.
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
-        if agent == "pnn" and self.pnn_lateral_init != 1.0:  # the same rule
-            kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
-        if agent == "pnn" and not self.pnn_critic_priors:  # the same rule
-            kwargs["policy_kwargs"]["critic_priors"] = False
+        if agent == "pnn":  # the same rule for PNN's own factors
+            if self.pnn_lateral_init != 1.0:
+                kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
+            if not self.pnn_critic_priors:
+                kwargs["policy_kwargs"]["critic_priors"] = False
         return kwargs
 
     def validation(self) -> dict[str, int]:
