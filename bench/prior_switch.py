@@ -1,0 +1,113 @@
+"""Do the frozen priors alone solve the planning tasks? Switch between them by obstacle distance.
+
+A diagnostic for the SPNN's generalization (Figure 20). The policy here has no new column and
+learns nothing: it plays the path-following prior's greedy action while the nearest obstacle is
+farther than ``d_th`` and the obstacle-avoidance prior's greedy action when it is nearer, the
+hard gate of eq. 15 applied to the priors' own outputs instead of to lateral inputs. Each prior
+gets the observation keys it was trained on (``match_prior_obs``, as inside SPNN). If this
+switch succeeds on the new layouts, the skills the transfer needs are in the priors and a
+trained SPNN that fails there lost them; if it fails too, the priors do not compose.
+
+Evaluated as the study evaluates (50 episodes per task on seeds 10000+, the evaluation
+library's start noise); the environment keywords are those of the study's ``ours`` set-up.
+
+Usage: python bench/prior_switch.py --pf-straight P.zip --pf-sine P.zip --oa P.zip [--d-th 12.5]
+       (the 5-seed study's priors: STUDY/runs/prior-{pf_straight,pf_sine,oa}-s0/model.zip)
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import gymnasium as gym
+import numpy as np
+import torch as th
+
+import rov_envs  # noqa: F401 - registers the tasks
+from sb3_pnn import DiscreteSAC
+from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.reproduce.setups import OURS
+from sb3_pnn.reproduce.work import EVAL_SEED
+
+#: (label, env id, extra env keywords): the study's evaluation tasks, by path.
+TASKS = {
+    "straight": [
+        ("original", "rov_envs/PlanningStraight-v0", {}),
+        ("path following, no obstacles", "rov_envs/PlanningStraight-v0", {"obstacles": []}),
+        ("new: uniform obstacles", "rov_envs/PlanningStraightUniform-v0", {}),
+        ("new: dense obstacles", "rov_envs/PlanningStraightDense-v0", {}),
+    ],
+    "sine": [
+        ("original", "rov_envs/PlanningSine-v0", {}),
+        ("path following, no obstacles", "rov_envs/PlanningSine-v0", {"obstacles": []}),
+        ("new: dense obstacles", "rov_envs/PlanningSineDense-v0", {}),
+    ],
+}
+
+
+class PriorSwitch:
+    """Greedy action of the path-following prior, or of the avoidance prior within ``d_th``."""
+
+    def __init__(self, pf: DiscreteSAC, oa: DiscreteSAC, d_th: float, sonar_range: float):
+        self.pf, self.oa, self.d_th, self.sonar_range = pf, oa, d_th, sonar_range
+        self.oa_share: list[float] = []
+
+    @staticmethod
+    def _greedy(model: DiscreteSAC, obs: dict[str, np.ndarray]) -> np.ndarray:
+        keys = model.observation_space.spaces.keys()
+        action, _ = model.predict({k: obs[k] for k in keys}, deterministic=True)
+        return np.asarray(action)
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        near = obs["sonar"].min(axis=-1) * self.sonar_range <= self.d_th
+        self.oa_share.append(float(np.mean(near)))
+        action = np.where(near, self._greedy(self.oa, obs), self._greedy(self.pf, obs))
+        return action, state
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pf-straight", required=True)
+    parser.add_argument("--pf-sine", required=True)
+    parser.add_argument("--oa", required=True)
+    parser.add_argument("--d-th", type=float, default=12.5, help="switch distance (m), paper 12.5")
+    parser.add_argument("--episodes", type=int, default=50)
+    parser.add_argument(
+        "--seed", type=int, default=EVAL_SEED, help="first episode seed (study evaluation: 10000)"
+    )
+    args = parser.parse_args()
+    th.set_num_threads(1)
+    env_kwargs = OURS.env_kwargs()
+    oa = DiscreteSAC.load(args.oa, device="cpu")
+    print(
+        f"d_th {args.d_th} m; env keywords {env_kwargs}; {args.episodes} episodes per task "
+        f"on seeds {args.seed}+"
+    )
+    for path, prior in (("straight", args.pf_straight), ("sine", args.pf_sine)):
+        pf = DiscreteSAC.load(prior, device="cpu")
+        for label, env_id, extra in TASKS[path]:
+            kwargs = {**env_kwargs, **extra}
+            sonar_range = gym.make(env_id, **kwargs).unwrapped.sonar_range
+            policy = PriorSwitch(pf, oa, args.d_th, sonar_range)
+            start = time.time()
+            result = evaluate_policy_on_task(
+                policy,
+                env_id,
+                n_episodes=args.episodes,
+                seed=args.seed,
+                env_kwargs=kwargs,
+            )
+            low, high = result.success_ci95
+            ends = ", ".join(f"{k} {v}" for k, v in sorted(result.end_reasons.items()))
+            print(
+                f"{path:8} {label:30} success {result.success_rate:4.0%} [{low:.0%}, {high:.0%}]"
+                f"  mean |g| {result.mean_abs_cross_track:4.2f} m"
+                f"  avoidance prior in {np.mean(policy.oa_share):4.0%} of decisions"
+                f"  ({ends}; {time.time() - start:.0f} s)",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()
