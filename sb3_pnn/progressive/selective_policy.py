@@ -44,6 +44,8 @@ from sb3_pnn.progressive.prior_loading import PriorSpec
 from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
 
 PRIOR_NAMES = ("path_following", "obstacle_avoidance")
+#: The paper's switch distance d_th (m), "set to be 12.5 m after a number of experimental trials".
+PAPER_D_TH = 12.5
 
 
 def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
@@ -98,7 +100,7 @@ class SelectivePolicy(ProgressivePolicy):
         lateral_scale_init: float = 1.0,
         sigma: float = 0.5,
         own_weight: float = 0.5,
-        d_th: float = 12.5,
+        d_th: float = PAPER_D_TH,
         sonar_range: float = 25.0,
         sonar_key: str = "sonar",
         gate: str = "hard",

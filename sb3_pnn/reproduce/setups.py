@@ -41,6 +41,9 @@ Factors:
   off: the critics are plain networks and only the actor reads the prior
   (``ProgressivePolicy(critic_priors=False)``), as section 3.2 names only the policy pi_phi_lambda
   as PNN's first column. Only PNN runs read it.
+* ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
+  after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
+  column while the nearest obstacle is nearer. Only SPNN runs read it.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.validation.VALIDATION_SEED`, apart from the evaluation's),
@@ -57,6 +60,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
+from sb3_pnn.progressive.selective_policy import PAPER_D_TH
 
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
 #: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
@@ -100,6 +104,7 @@ class TrainingSetup:
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
     pnn_critic_priors: bool = True
+    spnn_d_th: float = PAPER_D_TH
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
@@ -109,6 +114,10 @@ class TrainingSetup:
             raise ValueError(
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
                 "expected a number in (0, 1]"
+            )
+        if not float(self.spnn_d_th) > 0.0:
+            raise ValueError(
+                f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
             )
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
@@ -132,7 +141,7 @@ class TrainingSetup:
     def sac_kwargs(self, prior: bool = False, agent: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
-        PNN's ``lateral_scale_init`` and ``critic_priors``."""
+        PNN's ``lateral_scale_init`` and ``critic_priors``, ``agent="spnn"`` SPNN's ``d_th``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -150,6 +159,8 @@ class TrainingSetup:
                 kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
             if not self.pnn_critic_priors:
                 kwargs["policy_kwargs"]["critic_priors"] = False
+        if agent == "spnn" and self.spnn_d_th != PAPER_D_TH:
+            kwargs["policy_kwargs"]["d_th"] = float(self.spnn_d_th)
         return kwargs
 
     def validation(self) -> dict[str, int]:
@@ -210,6 +221,7 @@ FACTOR_LABELS: dict[str, str] = {
     "keep_best": "best policy on validation episodes kept",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_critic_priors": "PNN critics read the prior's critic",
+    "spnn_d_th": "SPNN switch distance d_th (m)",
 }
 
 

@@ -138,27 +138,30 @@ def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
     return {s.agent: s.sac_kwargs["policy_kwargs"] for s in plan if s.kind == "transfer"}
 
 
-def test_pnn_lateral_init_reaches_only_pnn_runs() -> None:
-    """``--set pnn_lateral_init=0`` gives PNN's policy lateral_scale_init 0 and nothing else
-    changes; at 1 (the paper's) no key is written, so earlier runs keep their hash."""
+@pytest.mark.parametrize(
+    ("change", "agent", "key"),
+    [
+        (("pnn_lateral_init", 0.0), "pnn", "lateral_scale_init"),
+        (("pnn_critic_priors", False), "pnn", "critic_priors"),
+        (("spnn_d_th", 8.0), "spnn", "d_th"),
+    ],
+)
+def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str) -> None:
+    """A factor that one agent reads (``--set pnn_lateral_init=0``, ``pnn_critic_priors=false``,
+    ``spnn_d_th=8``) reaches that agent's policy and nothing else changes; at the paper's value
+    no key is written, so runs made before the factor existed keep their hash."""
     default = kwargs_by_agent(())
-    zero = kwargs_by_agent((("pnn_lateral_init", 0.0),))
-    assert all("lateral_scale_init" not in kw for kw in default.values())
-    assert zero["pnn"]["lateral_scale_init"] == 0.0
+    changed = kwargs_by_agent((change,))
+    assert all(key not in kw for kw in default.values())
+    assert changed[agent][key] == change[1]
+    assert {a: kw for a, kw in changed.items() if a != agent} == {
+        a: kw for a, kw in default.items() if a != agent
+    }
+    name, value = change
+    assert parse_setup_changes([f"{name}={str(value).lower()}"]) == {name: value}
+
+
+def test_agent_factor_values_checked() -> None:
     assert OURS.sac_kwargs(agent="pnn")["policy_kwargs"]["lateral_scale_init"] == 0.0
-    assert {a: kw for a, kw in zero.items() if a != "pnn"} == {
-        a: kw for a, kw in default.items() if a != "pnn"
-    }
-
-
-def test_pnn_critic_priors_reaches_only_pnn_runs() -> None:
-    """``--set pnn_critic_priors=false`` gives PNN's policy critic_priors=False and nothing else
-    changes; at True (the paper's Algorithm 1) no key is written: earlier runs keep their hash."""
-    default = kwargs_by_agent(())
-    off = kwargs_by_agent((("pnn_critic_priors", False),))
-    assert all("critic_priors" not in kw for kw in default.values())
-    assert off["pnn"]["critic_priors"] is False
-    assert {a: kw for a, kw in off.items() if a != "pnn"} == {
-        a: kw for a, kw in default.items() if a != "pnn"
-    }
-    assert parse_setup_changes(["pnn_critic_priors=false"]) == {"pnn_critic_priors": False}
+    with pytest.raises(ValueError, match=r"spnn_d_th=0\.0 is not allowed: expected a distance > 0"):
+        OURS.with_(spnn_d_th=0.0)
