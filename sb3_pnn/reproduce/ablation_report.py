@@ -7,7 +7,8 @@ For every (cell, task) with finished runs the table gives
   over seeds would be; the per-seed rates are listed for that reason);
 * first success: the training episode of the first success, median over the seeds that had one,
   and how many seeds had one within the budget;
-* time: mean training wall time per run (minutes), on the machine and ``--jobs`` given.
+* time: mean training wall time per run (minutes), on the machine and ``--jobs`` given, and the
+  mean CPU time per run (training and evaluation), which other load on the machine affects less.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ def cell_task_summary(
     rates: list[float] = []
     firsts: list[int | None] = []
     minutes: list[float] = []
+    cpu_minutes: list[float] = []
     for run in finished:
         own = run.evals["own"]
         successes += int(own["successes"])
@@ -44,6 +46,7 @@ def cell_task_summary(
         rates.append(float(own["success_rate"]))
         firsts.append(run.manifest.get("first_success"))
         minutes.append(float(run.manifest.get("train_s", 0.0)) / 60.0)
+        cpu_minutes.append(float(run.manifest.get("cpu_s", 0.0)) / 60.0)
     reached = [f for f in firsts if f is not None]
     return {
         "runs": len(finished),
@@ -54,6 +57,7 @@ def cell_task_summary(
         "first_median": statistics.median(reached) if reached else None,
         "first_reached": len(reached),
         "train_min": sum(minutes) / len(minutes),
+        "cpu_min": sum(cpu_minutes) / len(cpu_minutes),
     }
 
 
@@ -69,7 +73,8 @@ def _entry(summary: dict[str, Any] | None, seeds: int) -> str:
     return (
         f"{rate * 100:.0f} % [{lo * 100:.0f}, {hi * 100:.0f}] (seeds: {per_seed} %); "
         f"first {first_text} "
-        f"({summary['first_reached']}/{summary['runs']}); {summary['train_min']:.1f} min"
+        f"({summary['first_reached']}/{summary['runs']}); {summary['train_min']:.1f} min "
+        f"({summary['cpu_min']:.1f} CPU-min)"
         f"{partial}"
     )
 
@@ -105,7 +110,8 @@ def render_report(
         "",
         "Each entry: evaluation success pooled over seeds [95 % Wilson interval] (per-seed "
         "rates); training episode of the first success, median over the seeds that had one "
-        "(seeds with one / runs); mean training wall time per run.",
+        "(seeds with one / runs); mean training wall time per run (mean CPU time per run, "
+        "training and evaluation).",
         "",
         "## The two set-ups",
         "",
