@@ -44,11 +44,11 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "updates": ("step:4",),
     "target_entropy_ratio": (0.2,),
 }
-#: Factors no ablation task reads (no cell for them), with where they are measured instead.
+#: Factors with no cell of their own, each with why and where it is measured instead.
 _ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
 NOT_ABLATED: dict[str, str] = {
-    "spnn_d_th": "the paper's and ours are equal (12.5 m); to measure another value, retrain "
-    "the 5-seed study's SPNN runs with --set spnn_d_th=... (bench/prior_switch.py: docs/ablation)",
+    "spnn_d_th": "the paper's and ours are equal (12.5 m); another value is measured by "
+    "retraining the 5-seed study's SPNN runs with --set spnn_d_th=... (docs/ablation/README.md)",
     "pnn_lateral_init": _ONLY_PNN
     + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
     "pnn_critic_priors": _ONLY_PNN
