@@ -77,6 +77,10 @@ def main() -> None:
         "--seed", type=int, default=EVAL_SEED, help="first episode seed (study evaluation: 10000)"
     )
     args = parser.parse_args()
+    if not args.d_th > 0:
+        parser.error(f"--d-th {args.d_th} is not allowed: expected a distance > 0 (m)")
+    if args.episodes < 1 or args.seed < 0:
+        parser.error(f"--episodes {args.episodes} / --seed {args.seed}: expected >= 1 / >= 0")
     th.set_num_threads(1)
     env_kwargs = OURS.env_kwargs()
     oa = DiscreteSAC.load(args.oa, device="cpu")
@@ -88,7 +92,9 @@ def main() -> None:
         pf = DiscreteSAC.load(prior, device="cpu")
         for label, env_id, extra in TASKS[path]:
             kwargs = {**env_kwargs, **extra}
-            sonar_range = gym.make(env_id, **kwargs).unwrapped.sonar_range
+            probe = gym.make(env_id, **kwargs)
+            sonar_range = probe.unwrapped.sonar_range
+            probe.close()
             policy = PriorSwitch(pf, oa, args.d_th, sonar_range)
             start = time.time()
             result = evaluate_policy_on_task(

@@ -154,13 +154,10 @@ class TrainingSetup:
         # hashes) of runs made before this factor existed stay the same.
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
-        if agent == "pnn":  # the same rule for PNN's own factors
-            if self.pnn_lateral_init != 1.0:
-                kwargs["policy_kwargs"]["lateral_scale_init"] = float(self.pnn_lateral_init)
-            if not self.pnn_critic_priors:
-                kwargs["policy_kwargs"]["critic_priors"] = False
-        if agent == "spnn" and self.spnn_d_th != PAPER_D_TH:
-            kwargs["policy_kwargs"]["d_th"] = float(self.spnn_d_th)
+        for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
+            default = _FIELD_DEFAULTS[name]
+            if agent == reader and getattr(self, name) != default:
+                kwargs["policy_kwargs"][key] = type(default)(getattr(self, name))
         return kwargs
 
     def validation(self) -> dict[str, int]:
@@ -185,6 +182,16 @@ class TrainingSetup:
     def with_(self, **changes: Any) -> TrainingSetup:
         return replace(self, **changes)
 
+
+#: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
+#: written into that agent's ``policy_kwargs`` only when it departs from its default (the
+#: paper's), so runs made before the factor existed keep their hash.
+AGENT_FACTORS: dict[str, tuple[str, str]] = {
+    "pnn_lateral_init": ("pnn", "lateral_scale_init"),
+    "pnn_critic_priors": ("pnn", "critic_priors"),
+    "spnn_d_th": ("spnn", "d_th"),
+}
+_FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
 
 #: The paper read literally: its vehicle, Table 3's update schedule, the exact start pose, the
 #: state [a_c, g, d_1..d_q], eq. 17-21 without a success reward, Table 2's [255, 255] networks;

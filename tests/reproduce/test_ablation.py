@@ -18,6 +18,7 @@ from sb3_pnn.reproduce.ablation import (
 )
 from sb3_pnn.reproduce.cli import main
 from sb3_pnn.reproduce.setups import (
+    AGENT_FACTORS,
     OURS,
     PAPER,
     TrainingSetup,
@@ -140,14 +141,14 @@ def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
     return {s.agent: s.sac_kwargs["policy_kwargs"] for s in plan if s.kind == "transfer"}
 
 
-@pytest.mark.parametrize(
-    ("change", "agent", "key"),
-    [
-        (("pnn_lateral_init", 0.0), "pnn", "lateral_scale_init"),
-        (("pnn_critic_priors", False), "pnn", "critic_priors"),
-        (("spnn_d_th", 8.0), "spnn", "d_th"),
-    ],
-)
+AGENT_FACTOR_CASES = [
+    (("pnn_lateral_init", 0.0), "pnn", "lateral_scale_init"),
+    (("pnn_critic_priors", False), "pnn", "critic_priors"),
+    (("spnn_d_th", 8.0), "spnn", "d_th"),
+]
+
+
+@pytest.mark.parametrize(("change", "agent", "key"), AGENT_FACTOR_CASES)
 def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str) -> None:
     """A factor that one agent reads (``--set pnn_lateral_init=0``, ``pnn_critic_priors=false``,
     ``spnn_d_th=8``) reaches that agent's policy and nothing else changes; at the paper's value
@@ -164,6 +165,7 @@ def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str
 
 
 def test_agent_factor_values_checked() -> None:
+    assert {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES} == AGENT_FACTORS
     assert OURS.sac_kwargs(agent="pnn")["policy_kwargs"]["lateral_scale_init"] == 0.0
     with pytest.raises(ValueError, match=r"spnn_d_th=0\.0 is not allowed: expected a distance > 0"):
         OURS.with_(spnn_d_th=0.0)
