@@ -2,9 +2,10 @@
 
 For every (cell, task) with finished runs the table gives
 
-* success: evaluation successes pooled over the seeds, ``k/n``, with a 95 % Wilson interval
-  (episodes of one seed are not independent of each other, so the interval is narrower than one
-  over seeds would be; the per-seed rates are listed for that reason);
+* success: evaluation successes pooled over the seeds, with a 95 % interval that also covers the
+  spread between seeds (:func:`.stats.success_interval`: episodes of one seed are not independent
+  of each other, so a Wilson interval of the pooled episodes alone would claim too much), and the
+  per-seed rates;
 * first success: the training episode of the first success, median over the seeds that had one,
   and how many seeds had one within the budget;
 * time: mean training wall time per run (minutes), on the machine and ``--jobs`` given, and the
@@ -17,10 +18,10 @@ import statistics
 from collections.abc import Sequence
 from typing import Any
 
-from sb3_pnn.evaluation import wilson_interval
 from sb3_pnn.reproduce.ablation import CELLS, TASK_LABELS, TASKS, AblationConfig, run_id
 from sb3_pnn.reproduce.results import StudyResults
 from sb3_pnn.reproduce.setups import FACTOR_LABELS, OURS, PAPER, describe_value
+from sb3_pnn.reproduce.stats import success_interval
 
 
 def cell_task_summary(
@@ -35,6 +36,7 @@ def cell_task_summary(
     if not finished:
         return None
     successes = n = 0
+    pairs: list[tuple[int, int]] = []
     rates: list[float] = []
     firsts: list[int | None] = []
     minutes: list[float] = []
@@ -43,6 +45,7 @@ def cell_task_summary(
         own = run.evals["own"]
         successes += int(own["successes"])
         n += int(own["n_episodes"])
+        pairs.append((int(own["successes"]), int(own["n_episodes"])))
         rates.append(float(own["success_rate"]))
         firsts.append(run.manifest.get("first_success"))
         minutes.append(float(run.manifest.get("train_s", 0.0)) / 60.0)
@@ -52,7 +55,7 @@ def cell_task_summary(
         "runs": len(finished),
         "successes": successes,
         "n": n,
-        "ci95": wilson_interval(successes, n),
+        "ci95": success_interval(pairs)[1:],
         "rates": rates,
         "first_median": statistics.median(reached) if reached else None,
         "first_reached": len(reached),
@@ -108,10 +111,11 @@ def render_report(
         f"training seeds 0..{config.seeds - 1}). PlanningStraight is learned by SPNN from the "
         "cell's own seed-0 PathFollowingStraight and ObstacleAvoidance runs.",
         "",
-        "Each entry: evaluation success pooled over seeds [95 % Wilson interval] (per-seed "
-        "rates); training episode of the first success, median over the seeds that had one "
-        "(seeds with one / runs); mean training wall time per run (mean CPU time per run, "
-        "training and evaluation).",
+        "Each entry: evaluation success pooled over seeds [95 % interval: the hull of the "
+        "pooled episodes' Wilson interval and the Student-t interval of the mean per-seed rate, "
+        "since whole runs succeed or fail] (per-seed rates); training episode of the first "
+        "success, median over the seeds that had one (seeds with one / runs); mean training "
+        "wall time per run (mean CPU time per run, training and evaluation).",
         "",
         "## The two set-ups",
         "",

@@ -11,8 +11,8 @@ their names (a figure whose data is missing is skipped and not returned).
   (generalization tasks): (a) trajectories, (b) heading deviation a_c (eq. 16) and (c) distance
   from the target route |g| over time, first evaluation episode of each final policy (seed 0) and
   of the adaptive PID controller.
-* Figure 20: success rates on the three generalization tasks, pooled over seeds, with Wilson
-  95 % intervals.
+* Figure 20: success rates on the three generalization tasks, pooled over seeds, with 95 %
+  intervals that also cover the spread between seeds (:func:`.stats.success_interval`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from sb3_pnn.reproduce.plan import (  # noqa: E402
     PAPER_TRAJECTORY_EPISODES,
 )
 from sb3_pnn.reproduce.results import StudyResults  # noqa: E402
-from sb3_pnn.reproduce.stats import curve_band, smooth  # noqa: E402
+from sb3_pnn.reproduce.stats import curve_band, smooth, success_interval  # noqa: E402
 
 COLORS = {
     "pnn": "tab:blue",
@@ -231,21 +231,18 @@ def evaluation_traces(results: StudyResults, folder: Path) -> list[str]:
     return names
 
 
-def pooled_success(runs: list[Any], label: str) -> tuple[int, int]:
-    """(successes, episodes) of evaluation ``label`` pooled over ``runs``."""
-    k = n = 0
+def per_run_success(runs: list[Any], label: str) -> list[tuple[int, int]]:
+    """(successes, episodes) of evaluation ``label``, one pair per run that has it."""
+    out = []
     for r in runs:
         ev = r.evals.get(label)
         if ev:
-            k += int(ev["successes"])
-            n += int(ev["n_episodes"])
-    return k, n
+            out.append((int(ev["successes"]), int(ev["n_episodes"])))
+    return out
 
 
 def success_bars(results: StudyResults, folder: Path) -> list[str]:
-    """Figure 20."""
-    from sb3_pnn.evaluation import wilson_interval
-
+    """Figure 20 (intervals: :func:`.stats.success_interval`, which also covers seed spread)."""
     policies = [*AGENTS, "adaptive_pid"]
     width = 0.8 / len(policies)
     fig, ax = plt.subplots(figsize=(9, 4.5))
@@ -253,12 +250,11 @@ def success_bars(results: StudyResults, folder: Path) -> list[str]:
     for j, agent in enumerate(policies):
         kind = "baseline" if agent == "adaptive_pid" else "transfer"
         for i, (path, label, _) in enumerate(GENERALIZATION):
-            k, n = pooled_success(results.select(kind, agent, path), label)
-            if n == 0:
+            pairs = per_run_success(results.select(kind, agent, path), label)
+            if not pairs:
                 continue
             any_data = True
-            lo, hi = wilson_interval(k, n)
-            rate = k / n
+            rate, lo, hi = success_interval(pairs)
             x = i + (j - (len(policies) - 1) / 2) * width
             ax.bar(x, 100 * rate, width, color=COLORS[agent],
                    label=AGENT_LABELS[agent] if i == 0 else None)  # fmt: skip
@@ -274,8 +270,11 @@ def success_bars(results: StudyResults, folder: Path) -> list[str]:
     ax.set_xticks(range(len(GENERALIZATION)), [g[2] for g in GENERALIZATION])
     ax.set_ylabel("success rate (%)")
     ax.set_ylim(0, 105)
-    ax.set_title("Figure 20: success on the new planning tasks\n(bars: ours, pooled over seeds, "
-                 "Wilson 95 % intervals; diamonds: the paper)", fontsize=10)  # fmt: skip
+    ax.set_title(
+        "Figure 20: success on the new planning tasks\n(bars: ours, pooled over seeds; "
+        "95 % intervals covering seed spread; diamonds: the paper)",
+        fontsize=10,
+    )
     ax.legend(fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.1))
     ax.grid(axis="y", alpha=0.3)
     return [_save(fig, folder, "fig20_success_rates.png")]

@@ -19,13 +19,14 @@ import time
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, pooled_success
+from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, per_run_success
 from sb3_pnn.reproduce.plan import AGENT_LABELS, AGENTS, EVAL_TASKS, PLANNING_ENVS, StudyConfig
 from sb3_pnn.reproduce.results import StudyResults
 from sb3_pnn.reproduce.stats import (
     SMOOTH_WINDOW,
     episodes_to_first_success,
     episodes_to_threshold,
+    success_interval,
     summarize_reached,
 )
 
@@ -74,13 +75,17 @@ def machine() -> str:
     )
 
 
-def _pct(k: int, n: int) -> str:
-    if n == 0:
+def _pct(pairs: list[tuple[int, int]]) -> str:
+    """Pooled rate [interval] (episodes), the interval from :func:`.stats.success_interval`."""
+    if not pairs:
         return "-"
-    from sb3_pnn.evaluation import wilson_interval
+    rate, lo, hi = success_interval(pairs)
+    n = sum(n for _, n in pairs)
+    return f"{100 * rate:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] (n={n})"
 
-    lo, hi = wilson_interval(k, n)
-    return f"{100 * k / n:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}] (n={n})"
+
+def _per_seed(pairs: list[tuple[int, int]]) -> str:
+    return " ".join(f"{100 * k / n:.0f}" for k, n in pairs) if pairs else "-"
 
 
 #: The episode ends of eq. 21 (a failure, with its terminal reward).
@@ -135,7 +140,7 @@ def success_table(results: StudyResults) -> list[str]:
     for agent in [*AGENTS, "adaptive_pid", "pid"]:
         cells = []
         for path, label, _ in GENERALIZATION:
-            cells.append(_pct(*pooled_success(results.select(_kind(agent), agent, path), label)))
+            cells.append(_pct(per_run_success(results.select(_kind(agent), agent, path), label)))
         paper = PAPER_SUCCESS.get(agent)
         paper_s = " / ".join(f"{v:g} %" for v in paper) if paper else "not reported"
         lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + f" | {paper_s} |")
@@ -149,7 +154,21 @@ def success_table(results: StudyResults) -> list[str]:
     lines.append("|---|" + "---|" * len(cols))
     for agent in [*AGENTS, "adaptive_pid", "pid"]:
         cells = [
-            _pct(*pooled_success(results.select(_kind(agent), agent, p), lb)) for p, lb in cols
+            _pct(per_run_success(results.select(_kind(agent), agent, p), lb)) for p, lb in cols
+        ]
+        lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + " |")
+    tasks = [(p, "original") for p in ("straight", "sine")] + [(g[0], g[1]) for g in GENERALIZATION]
+    lines += [
+        "",
+        "Success per training seed (%, seeds in order; whole runs succeed or fail, which is why "
+        "the intervals above also cover the spread between seeds):",
+        "",
+        "| policy | " + " | ".join(f"{p}: {TASK_TITLES[lb]}" for p, lb in tasks) + " |",
+        "|---|" + "---|" * len(tasks),
+    ]
+    for agent in AGENTS:
+        cells = [
+            _per_seed(per_run_success(results.select("transfer", agent, p), lb)) for p, lb in tasks
         ]
         lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + " |")
     return lines
@@ -274,18 +293,17 @@ def learning_speed(
 def _rate(
     results: StudyResults, agent: str, path: str, label: str
 ) -> tuple[float | None, tuple[float, float]]:
-    from sb3_pnn.evaluation import wilson_interval
-
-    k, n = pooled_success(results.select(_kind(agent), agent, path), label)
-    if n == 0:
+    pairs = per_run_success(results.select(_kind(agent), agent, path), label)
+    if not pairs:
         return None, (math.nan, math.nan)
-    return k / n, wilson_interval(k, n)
+    rate, lo, hi = success_interval(pairs)
+    return rate, (lo, hi)
 
 
 def _compare(
     a: tuple[float | None, tuple[float, float]], b: tuple[float | None, tuple[float, float]]
 ) -> str:
-    """Verdict on "rate a >= rate b" from the two Wilson intervals."""
+    """Verdict on "rate a >= rate b" from the two intervals (:func:`.stats.success_interval`)."""
     (ra, (lo_a, hi_a)), (rb, (lo_b, hi_b)) = a, b
     if ra is None or rb is None:
         return "not measured"
@@ -312,7 +330,8 @@ def _below_half(r: tuple[float | None, tuple[float, float]]) -> str:
 def claims(results: StudyResults, speed: dict[tuple[str, str], dict[str, Any]]) -> list[str]:
     """The paper's main claims, each with our measurement and a verdict derived from it.
 
-    Success-rate claims are judged on the Wilson 95 % intervals of the pooled rates: "agrees" /
+    Success-rate claims are judged on the 95 % intervals of the pooled rates, which also cover the
+    spread between seeds (:func:`.stats.success_interval`): "agrees" /
     "does NOT agree" when the intervals are apart, a point-estimate verdict marked "intervals
     overlap" otherwise. Learning-speed claims compare how many seeds reached the return threshold
     and then the mean episode at which they did.
@@ -484,7 +503,9 @@ def write_report(
         f"- evaluation: {budget.eval_episodes} episodes per policy and task, seeds 10000.., "
         "start pose "
         "perturbed by the evaluation library's default noise; success rates are pooled over "
-        "seeds with Wilson 95 % intervals",
+        "seeds, each with a 95 % interval that is the hull of the pooled episodes' Wilson "
+        "interval and the Student-t interval of the mean of the per-seed rates (a run's "
+        "episodes are not independent draws; the per-seed rates are tabulated)",
         f"- training set-up: {setup_text(config)}",
         "- DiscreteSAC otherwise as the paper's Tables 2-3 (lr 3e-4, Polyak 0.005, gamma 0.99, "
         "alpha from 0.2, buffer 1e6, batch 256), learning_starts 256",

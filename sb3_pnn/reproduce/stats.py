@@ -7,6 +7,9 @@
 * :func:`episodes_to_first_success` and :func:`episodes_to_threshold` - per run: the index of
   the first successful training episode, and of the first episode at which the moving average
   of the return reaches a threshold; None when never reached within the budget.
+* :func:`success_interval` - a success rate pooled over runs with an interval that also covers
+  the spread between seeds (episodes of one run are not independent draws: a run that never
+  learned fails all of its 50 evaluation episodes).
 """
 
 from __future__ import annotations
@@ -79,6 +82,28 @@ def episodes_to_threshold(
         if avg[i] >= threshold:
             return i
     return None
+
+
+def success_interval(per_run: Sequence[tuple[int, int]]) -> tuple[float, float, float]:
+    """(rate, low, high): successes pooled over runs, each run given as ``(successes, episodes)``.
+
+    The interval is the hull of two 95 % intervals: the Wilson interval of the pooled episodes
+    (right when the runs are alike) and the Student-t interval of the mean of the per-run rates,
+    clipped to [0, 1] (right when whole runs succeed or fail, as ours do: per-seed rates of 0 %
+    and 100 % in one cell are common). With one run it is the Wilson interval.
+    """
+    from sb3_pnn.evaluation import wilson_interval
+
+    runs = [(int(k), int(n)) for k, n in per_run if n > 0]
+    if not runs:
+        return math.nan, math.nan, math.nan
+    k = sum(r[0] for r in runs)
+    n = sum(r[1] for r in runs)
+    lo, hi = wilson_interval(k, n)
+    if len(runs) > 1:
+        _, t_lo, t_hi = mean_ci([rk / rn for rk, rn in runs])
+        lo, hi = min(lo, max(0.0, t_lo)), max(hi, min(1.0, t_hi))
+    return k / n, lo, hi
 
 
 def summarize_reached(values: Sequence[int | None], budget: int) -> dict[str, object]:

@@ -15,6 +15,7 @@ from sb3_pnn.reproduce.stats import (
     episodes_to_threshold,
     mean_ci,
     smooth,
+    success_interval,
 )
 
 
@@ -55,3 +56,38 @@ def test_verdicts_follow_the_wilson_intervals() -> None:
     assert _below_half(rate(11, 100)).startswith("agrees")
     assert _below_half(rate(96, 100)).startswith("does NOT agree")
     assert _below_half(rate(1, 2)).startswith("inconclusive")
+
+
+def test_success_interval_covers_the_spread_between_seeds() -> None:
+    # one run: the Wilson interval of its episodes
+    assert success_interval([(8, 10)]) == pytest.approx((0.8, *wilson_interval(8, 10)))
+    # alike runs: the per-seed t-interval is a point, so the pooled Wilson interval remains
+    rate, lo, hi = success_interval([(25, 50)] * 3)
+    assert (lo, hi) == pytest.approx(wilson_interval(75, 150)) and rate == 0.5
+    # whole runs succeed or fail: the pooled Wilson interval [0.40, 0.60] would claim far too much
+    rate, lo, hi = success_interval([(50, 50), (0, 50)])
+    assert rate == 0.5 and (lo, hi) == (0.0, 1.0)
+    # five seeds 100 100 100 26 100 (the study's PNN on PlanningStraight): mean 0.852, sd 0.331,
+    # t_{0.975, 4} * sd / sqrt(5) = 0.411 -> [0.441, 1] after clipping
+    rate, lo, hi = success_interval([(50, 50)] * 3 + [(13, 50), (50, 50)])
+    assert rate == pytest.approx(0.852) and lo == pytest.approx(0.441, abs=1e-3) and hi == 1.0
+    assert all(math.isnan(v) for v in success_interval([]))
+
+
+def test_verdicts_do_not_call_seed_noise_a_difference() -> None:
+    # pooled 36 % against 19 % over 250 episodes each: Wilson intervals apart, seeds not
+    a = [(3, 50), (37, 50), (16, 50), (4, 50), (30, 50)]
+    b = [(0, 50), (19, 50), (8, 50), (15, 50), (5, 50)]
+
+    def pooled(runs):
+        return (sum(k for k, _ in runs), sum(n for _, n in runs))
+
+    assert _compare(
+        (0.36, wilson_interval(*pooled(a))), (0.188, wilson_interval(*pooled(b)))
+    ).startswith("agrees (intervals apart)")
+
+    def seed_aware(runs):
+        rate, lo, hi = success_interval(runs)
+        return rate, (lo, hi)
+
+    assert "intervals overlap" in _compare(seed_aware(a), seed_aware(b))
