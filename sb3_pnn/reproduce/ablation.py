@@ -47,8 +47,8 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
 #: Factors with no cell of their own, each with why and where it is measured instead.
 _ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
 NOT_ABLATED: dict[str, str] = {
-    "spnn_d_th": "the paper's and ours are equal (12.5 m); another value is measured by "
-    "retraining the 5-seed study's SPNN runs with --set spnn_d_th=... (docs/ablation/README.md)",
+    "spnn_d_th": "the paper's and ours are equal (12.5 m); 8 m was measured by retraining the "
+    "5-seed study's ten SPNN runs with it (docs/ablation/spnn_d_th)",
     "pnn_lateral_init": _ONLY_PNN
     + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
     "pnn_critic_priors": _ONLY_PNN
