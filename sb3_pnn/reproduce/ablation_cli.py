@@ -103,6 +103,8 @@ def main(argv: Sequence[str], work: Any = None) -> int:
         print(f"ablation: {len(plan)} runs ({budget} budget) in {os.fspath(out)}", flush=True)
         sessions_path = out / SESSIONS
         sessions = json.loads(sessions_path.read_text()) if sessions_path.is_file() else []
+        shown = [a for a in argv if a != "--report-only"]
+        command = ("python -m sb3_pnn.reproduce --ablation " + shlex.join(shown)).strip()
         failed = 0
         if not args.report_only:
             if work is None:
@@ -113,7 +115,12 @@ def main(argv: Sequence[str], work: Any = None) -> int:
             except StudyConflictError as error:
                 parser.exit(2, f"error: {error}\n")
             sessions.append(
-                {"started": started, "wall_s": time.time() - started, "jobs": args.jobs}
+                {
+                    "started": started,
+                    "wall_s": time.time() - started,
+                    "jobs": args.jobs,
+                    "command": command,
+                }
             )
             write_json_atomic(sessions_path, sessions)
             print(
@@ -122,9 +129,7 @@ def main(argv: Sequence[str], work: Any = None) -> int:
                 flush=True,
             )
             failed = len(summary.failed) + len(summary.blocked)
-        shown = [a for a in argv if a != "--report-only"]
-        command = "python -m sb3_pnn.reproduce --ablation " + shlex.join(shown)
-        text = render_report(load_results(plan, store), config, command.strip(), sessions)
+        text = render_report(load_results(plan, store), config, command, sessions)
         write_text_atomic(out / "report.md", text)
     finally:
         store.close()

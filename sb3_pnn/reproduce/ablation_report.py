@@ -93,6 +93,19 @@ def _setup_rows() -> list[str]:
     return rows
 
 
+def made_by(command: str, sessions: Sequence[dict]) -> list[str]:
+    """How the folder was made: the one command, or each session's when they differ (an
+    ablation grows over sessions with different ``--cells`` / ``--tasks``)."""
+    recorded = [s.get("command") for s in sessions]
+    if not any(recorded) or set(recorded) == {command}:
+        return [f"Made by: `{command}`"]
+    lines = ["Made by these sessions, in order (each resumes the folder and adds its runs):", ""]
+    for number, (session, cmd) in enumerate(zip(sessions, recorded, strict=True), start=1):
+        took = f"{float(session.get('wall_s', 0.0)) / 60:.0f} min"
+        lines.append(f"{number}. `{cmd}` ({took})" if cmd else f"{number}. not recorded ({took})")
+    return [*lines, "", f"This table: `{command}`"]
+
+
 def render_report(
     results: StudyResults, config: AblationConfig, command: str, sessions: Sequence[dict]
 ) -> str:
@@ -102,7 +115,7 @@ def render_report(
     lines = [
         "# Training set-up ablation",
         "",
-        f"Made by: `{command}`",
+        *made_by(command, sessions),
         "",
         f"Budget `{config.budget_name}`: training episodes "
         + ", ".join(f"{TASK_LABELS[t]} {budget.episodes[t]}" for t in tasks)

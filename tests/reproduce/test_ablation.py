@@ -129,6 +129,19 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     assert (out / "report.md").read_text().split("Runs finished")[0] == report.split(
         "Runs finished"
     )[0]
+    # a session with other cells adds its runs; the report then names each session's command
+    more = ["--ablation", "--tiny", "--seeds", "2", "--cells", "ours+motion_obs=off", "--jobs", "2"]
+    more += ["--tasks", "oa", "--no-progress", "--out", str(out)]
+    assert main(more, work=fake_work) == 0
+    report = (out / "report.md").read_text()
+    assert "Made by these sessions, in order" in report
+    assert (
+        "1. `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2 --cells paper,ours" in report
+    )
+    assert (
+        "3. `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2 --cells ours+motion_obs"
+        in report
+    )
 
 
 def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
