@@ -85,6 +85,7 @@ def _pct(pairs: list[tuple[int, int]]) -> str:
 
 
 def _per_seed(pairs: list[tuple[int, int]]) -> str:
+    """Each run's success rate (%), in seed order."""
     return " ".join(f"{100 * k / n:.0f}" for k, n in pairs) if pairs else "-"
 
 

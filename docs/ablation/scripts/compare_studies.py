@@ -45,8 +45,10 @@ def main() -> None:
     print(f"agent {args.agent}: best validation success | evaluation {' / '.join(LABELS)}")
     for task in ("straight", "sine"):
         per_folder: dict[Path, list[float]] = {args.a: [], args.b: []}
-        for seed in range(100):
-            name = f"{args.agent}-{task}-s{seed}"
+        prefix = f"{args.agent}-{task}-s"
+        seeds = sorted(int(r.name[len(prefix) :]) for r in (args.a / "runs").glob(prefix + "*"))
+        for seed in seeds:
+            name = f"{prefix}{seed}"
             runs = [f / "runs" / name for f in (args.a, args.b)]
             if not all((r / "eval.json").is_file() for r in runs):
                 continue
