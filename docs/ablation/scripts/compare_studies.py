@@ -15,6 +15,7 @@ import argparse
 import json
 from pathlib import Path
 
+from sb3_pnn.reproduce.plan import AGENTS
 from sb3_pnn.reproduce.stats import mean_ci
 
 LABELS = ("original", "uniform", "dense")
@@ -37,7 +38,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("a", type=Path, help="study folder A")
     parser.add_argument("b", type=Path, help="study folder B")
-    parser.add_argument("--agent", default="spnn")
+    parser.add_argument("--agent", default="spnn", choices=AGENTS)
     args = parser.parse_args()
     for folder in (args.a, args.b):
         if not (folder / "runs").is_dir():
