@@ -35,28 +35,23 @@ def cell_task_summary(
     ]
     if not finished:
         return None
-    successes = n = 0
     pairs: list[tuple[int, int]] = []
-    rates: list[float] = []
     firsts: list[int | None] = []
     minutes: list[float] = []
     cpu_minutes: list[float] = []
     for run in finished:
         own = run.evals["own"]
-        successes += int(own["successes"])
-        n += int(own["n_episodes"])
         pairs.append((int(own["successes"]), int(own["n_episodes"])))
-        rates.append(float(own["success_rate"]))
         firsts.append(run.manifest.get("first_success"))
         minutes.append(float(run.manifest.get("train_s", 0.0)) / 60.0)
         cpu_minutes.append(float(run.manifest.get("cpu_s", 0.0)) / 60.0)
     reached = [f for f in firsts if f is not None]
     return {
         "runs": len(finished),
-        "successes": successes,
-        "n": n,
+        "successes": sum(k for k, _ in pairs),
+        "n": sum(n for _, n in pairs),
         "ci95": success_interval(pairs)[1:],
-        "rates": rates,
+        "rates": [k / n for k, n in pairs],
         "first_median": statistics.median(reached) if reached else None,
         "first_reached": len(reached),
         "train_min": sum(minutes) / len(minutes),

@@ -231,6 +231,11 @@ def evaluation_traces(results: StudyResults, folder: Path) -> list[str]:
     return names
 
 
+def run_kind(agent: str) -> str:
+    """The kind of run that holds ``agent``'s results: the PIDs are baselines, not trained."""
+    return "baseline" if agent in ("pid", "adaptive_pid") else "transfer"
+
+
 def per_run_success(runs: list[Any], label: str) -> list[tuple[int, int]]:
     """(successes, episodes) of evaluation ``label``, one pair per run that has it."""
     out = []
@@ -248,9 +253,8 @@ def success_bars(results: StudyResults, folder: Path) -> list[str]:
     fig, ax = plt.subplots(figsize=(9, 4.5))
     any_data = False
     for j, agent in enumerate(policies):
-        kind = "baseline" if agent == "adaptive_pid" else "transfer"
         for i, (path, label, _) in enumerate(GENERALIZATION):
-            pairs = per_run_success(results.select(kind, agent, path), label)
+            pairs = per_run_success(results.select(run_kind(agent), agent, path), label)
             if not pairs:
                 continue
             any_data = True

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, per_run_success
+from sb3_pnn.reproduce.figures import GENERALIZATION, PAPER_SUCCESS, per_run_success, run_kind
 from sb3_pnn.reproduce.plan import AGENT_LABELS, AGENTS, EVAL_TASKS, PLANNING_ENVS, StudyConfig
 from sb3_pnn.reproduce.results import StudyResults
 from sb3_pnn.reproduce.stats import (
@@ -126,10 +126,6 @@ def end_reasons_text() -> str:
     )
 
 
-def _kind(agent: str) -> str:
-    return "baseline" if agent in ("pid", "adaptive_pid") else "transfer"
-
-
 def success_table(results: StudyResults) -> list[str]:
     """Figure 20 beside the paper, plus the original tasks and path following."""
     lines = [
@@ -141,7 +137,7 @@ def success_table(results: StudyResults) -> list[str]:
     for agent in [*AGENTS, "adaptive_pid", "pid"]:
         cells = []
         for path, label, _ in GENERALIZATION:
-            cells.append(_pct(per_run_success(results.select(_kind(agent), agent, path), label)))
+            cells.append(_pct(per_run_success(results.select(run_kind(agent), agent, path), label)))
         paper = PAPER_SUCCESS.get(agent)
         paper_s = " / ".join(f"{v:g} %" for v in paper) if paper else "not reported"
         lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + f" | {paper_s} |")
@@ -155,7 +151,7 @@ def success_table(results: StudyResults) -> list[str]:
     lines.append("|---|" + "---|" * len(cols))
     for agent in [*AGENTS, "adaptive_pid", "pid"]:
         cells = [
-            _pct(per_run_success(results.select(_kind(agent), agent, p), lb)) for p, lb in cols
+            _pct(per_run_success(results.select(run_kind(agent), agent, p), lb)) for p, lb in cols
         ]
         lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + " |")
     tasks = [(p, "original") for p in ("straight", "sine")] + [(g[0], g[1]) for g in GENERALIZATION]
@@ -187,7 +183,7 @@ def route_table(results: StudyResults) -> list[str]:
             for agent in [*AGENTS, "adaptive_pid", "pid"]:
                 evs = [
                     r.evals[label]
-                    for r in results.select(_kind(agent), agent, path)
+                    for r in results.select(run_kind(agent), agent, path)
                     if label in r.evals
                 ]
                 if not evs:
@@ -294,7 +290,7 @@ def learning_speed(
 def _rate(
     results: StudyResults, agent: str, path: str, label: str
 ) -> tuple[float | None, tuple[float, float]]:
-    pairs = per_run_success(results.select(_kind(agent), agent, path), label)
+    pairs = per_run_success(results.select(run_kind(agent), agent, path), label)
     if not pairs:
         return None, (math.nan, math.nan)
     rate, lo, hi = success_interval(pairs)
