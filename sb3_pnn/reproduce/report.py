@@ -399,12 +399,19 @@ def claims(results: StudyResults, speed: dict[tuple[str, str], dict[str, Any]]) 
     return rows
 
 
-def _adopted_text(results: Any) -> str:
-    """How many runs came from an older folder (``python -m sb3_pnn.reproduce.adopt``)."""
+def _adopted_text(results: Any, study_folder: Path) -> str:
+    """How many runs came from an older folder (``python -m sb3_pnn.reproduce.adopt``).
+
+    The older folder is named relative to the study folder, so a report copied with its study
+    (``../study_3_seeds``) does not carry this machine's absolute paths.
+    """
     adopted = [r for r in results.runs.values() if "adopted" in r.manifest]
     if not adopted:
         return ""
-    origins = sorted({str(Path(r.manifest["adopted"]["from"]).parent.parent) for r in adopted})
+    here = study_folder.resolve()
+    origins = sorted(
+        {os.path.relpath(Path(r.manifest["adopted"]["from"]).parent.parent, here) for r in adopted}
+    )
     return (
         f"; {len(adopted)} of them adopted unchanged from {', '.join(origins)} "
         "(`python -m sb3_pnn.reproduce.adopt`; their invocations are counted below)"
@@ -459,7 +466,7 @@ def write_report(
     path: Any,
     jobs: int,
 ) -> None:
-    """Write report.md (atomically) into ``path``."""
+    """Write report.md (atomically) to ``path``, a file in the study folder."""
     speed_lines, speed = learning_speed(results)
     budget = config.budget
     train_runs = [r for r in results.runs.values() if r.spec.kind != "baseline"]
@@ -508,7 +515,7 @@ def write_report(
         "alpha from 0.2, buffer 1e6, batch 256), learning_starts 256",
         f"- runs finished: {len(results.runs)} ({len(train_runs)} trained); "
         f"missing: {len(results.missing)}; "
-        f"failed: {len(results.failures)}{_adopted_text(results)}",
+        f"failed: {len(results.failures)}{_adopted_text(results, Path(path).parent)}",
         f"- wall-clock: {total_wall / 60:.1f} min over {len(sessions)} invocation(s) "
         f"({_sessions_text(sessions)}); "
         f"sum of run wall times {run_s / 60:.1f} min; sum of run CPU times {cpu_s / 60:.1f} min, "

@@ -101,5 +101,6 @@ def test_report_names_the_adopted_runs(tmp_path, capsys) -> None:
     assert main([*args, *study, "--out", str(new)]) == 0
     assert study_main([*study, "--report-only", "--out", str(new)], work=fake_work) == 0
     report = (new / "report.md").read_text()
-    assert f"adopted unchanged from {old}" in report
+    assert "adopted unchanged from ../old " in report  # relative: no machine's absolute path
+    assert str(tmp_path) not in report.split("## Cost per run")[0].split("- runs finished")[1]
     assert "missing: 0" in report and "over 1 invocation(s)" in report  # the old one's
