@@ -28,11 +28,12 @@ def cell_task_summary(
     results: StudyResults, cell: str, task: str, seeds: int
 ) -> dict[str, Any] | None:
     """Pooled figures of one table entry, or None when no run of it has finished."""
-    finished = [
-        results.runs[rid]
-        for rid in (run_id(cell, task, s) for s in range(seeds))
-        if rid in results.runs
-    ]
+    return runs_summary(results, [run_id(cell, task, s) for s in range(seeds)])
+
+
+def runs_summary(results: StudyResults, run_ids: Sequence[str]) -> dict[str, Any] | None:
+    """Pooled figures of the finished runs among ``run_ids``, or None when none has finished."""
+    finished = [results.runs[rid] for rid in run_ids if rid in results.runs]
     if not finished:
         return None
     pairs: list[tuple[int, int]] = []
@@ -90,13 +91,16 @@ def _setup_rows() -> list[str]:
 
 def made_by(command: str, sessions: Sequence[dict]) -> list[str]:
     """How the folder was made: the one command, or each session's when they differ (an
-    ablation grows over sessions with different ``--cells`` / ``--tasks``)."""
+    ablation grows over sessions with different ``--cells`` / ``--tasks``). A session's
+    ``note`` (written by hand into sessions.json, e.g. that it was stopped early) is quoted."""
     recorded = [s.get("command") for s in sessions]
     if not any(recorded) or set(recorded) == {command}:
         return [f"Made by: `{command}`"]
     lines = ["Made by these sessions, in order (each resumes the folder and adds its runs):", ""]
     for number, (session, cmd) in enumerate(zip(sessions, recorded, strict=True), start=1):
         took = f"{float(session.get('wall_s', 0.0)) / 60:.0f} min"
+        if session.get("note"):
+            took += f"; {session['note']}"
         lines.append(f"{number}. `{cmd}` ({took})" if cmd else f"{number}. not recorded ({took})")
     return [*lines, "", f"This table: `{command}`"]
 
@@ -139,7 +143,14 @@ def render_report(
         entries = []
         for task in tasks:
             if TASKS[task][1] == "dsac" and cell.prior_share != 1.0:
-                entries.append("as ours")
+                # only the seed-0 source columns of the planning runs are trained at this share
+                column = runs_summary(results, [run_id(name, f"{task}_prior", 0)])
+                entries.append(
+                    "as ours"
+                    if column is None
+                    else f"seed-0 column at {cell.prior_share:g} of the budget: "
+                    + _entry(column, 1)
+                )
                 continue
             entries.append(
                 _entry(cell_task_summary(results, name, task, config.seeds), config.seeds)

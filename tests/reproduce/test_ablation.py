@@ -144,6 +144,43 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     )
 
 
+def test_reduced_prior_budget_row_shows_its_source_columns(tmp_path) -> None:
+    out = tmp_path / "ablation"
+    argv = ["--ablation", "--tiny", "--seeds", "1", "--cells", "ours+prior_budget=0.5"]
+    argv += ["--tasks", "pf_sine,oa,planning_straight", "--no-progress", "--out", str(out)]
+    assert main(argv, work=fake_work) == 0
+    row = next(
+        line
+        for line in (out / "report.md").read_text().splitlines()
+        if line.startswith("| `ours+prior_budget=0.5`")
+    )
+    cells = [c.strip() for c in row.strip("|").split(" | ")]
+    # pf_sine is no source column of PlanningStraight: the cell trains nothing there
+    assert cells[2] == "as ours"
+    # the seed-0 ObstacleAvoidance column, trained at half budget (stand-in: 1 of 2 episodes)
+    assert cells[3].startswith("seed-0 column at 0.5 of the budget: 50 % [")
+    assert cells[4].startswith("100 % [")  # stand-in SPNN: 90 % of 2 episodes rounds to 2
+
+
+def test_made_by_quotes_a_sessions_note() -> None:
+    from sb3_pnn.reproduce.ablation_report import made_by
+
+    sessions = [
+        {"command": "python -m sb3_pnn.reproduce --ablation --cells a", "wall_s": 600.0},
+        {
+            "command": "python -m sb3_pnn.reproduce --ablation --cells b",
+            "wall_s": 120.0,
+            "note": "stopped by hand after its first run",
+        },
+    ]
+    lines = made_by("python -m sb3_pnn.reproduce --ablation --cells a,b", sessions)
+    assert lines[2] == "1. `python -m sb3_pnn.reproduce --ablation --cells a` (10 min)"
+    assert lines[3] == (
+        "2. `python -m sb3_pnn.reproduce --ablation --cells b` (2 min; stopped by hand after its "
+        "first run)"
+    )
+
+
 def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
     """The policy keyword arguments of each transfer agent in a one-seed study of ``paper``
     with ``changes``."""
