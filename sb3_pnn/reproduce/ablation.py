@@ -162,13 +162,18 @@ def run_id(cell: str, task: str, seed: int) -> str:
     return f"{cell}-{task}-s{seed}"
 
 
+def reduced_column_id(cell: str, task: str) -> str:
+    """The seed-0 source column a reduced-prior-budget cell trains for its planning runs."""
+    return run_id(cell, f"{task}_prior", 0)
+
+
 def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
     """All runs, each after the runs it needs (a planning run needs its cell's seed-0 priors)."""
     budget = config.budget
     runs: dict[str, RunSpec] = {}
 
     def add_single(cell: AblationCell, task: str, seed: int, share: float) -> str:
-        rid = run_id(cell.name, task if share == 1.0 else f"{task}_prior", seed)
+        rid = run_id(cell.name, task, seed) if share == 1.0 else reduced_column_id(cell.name, task)
         if rid not in runs:
             episodes = max(1, round(budget.episodes[task] * share))
             runs[rid] = prior_run(task, seed, episodes, cell.setup, budget.eval_episodes, rid)

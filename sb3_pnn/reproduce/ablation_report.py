@@ -18,7 +18,14 @@ import statistics
 from collections.abc import Sequence
 from typing import Any
 
-from sb3_pnn.reproduce.ablation import CELLS, TASK_LABELS, TASKS, AblationConfig, run_id
+from sb3_pnn.reproduce.ablation import (
+    CELLS,
+    TASK_LABELS,
+    TASKS,
+    AblationConfig,
+    reduced_column_id,
+    run_id,
+)
 from sb3_pnn.reproduce.results import StudyResults
 from sb3_pnn.reproduce.setups import FACTOR_LABELS, OURS, PAPER, describe_value
 from sb3_pnn.reproduce.stats import success_interval
@@ -144,7 +151,7 @@ def render_report(
         for task in tasks:
             if TASKS[task][1] == "dsac" and cell.prior_share != 1.0:
                 # only the seed-0 source columns of the planning runs are trained at this share
-                column = runs_summary(results, [run_id(name, f"{task}_prior", 0)])
+                column = runs_summary(results, [reduced_column_id(name, task)])
                 entries.append(
                     "as ours"
                     if column is None
