@@ -30,6 +30,7 @@ import numpy as np  # noqa: E402
 from sb3_pnn.reproduce.plan import (  # noqa: E402
     AGENT_LABELS,
     AGENTS,
+    BASELINES,
     PAPER_TRAJECTORY_EPISODES,
 )
 from sb3_pnn.reproduce.results import StudyResults  # noqa: E402
@@ -172,7 +173,7 @@ def training_trajectories(results: StudyResults, folder: Path) -> list[str]:
             ax.legend(fontsize=7, ncol=3, loc="upper right")
         ax = axes[-1][0]
         _draw_scene(ax, path, _fixed_obstacles(path))
-        for baseline in ("pid", "adaptive_pid"):
+        for baseline in BASELINES:
             runs = results.select("baseline", baseline, path)
             trace = _eval_trace(runs[0] if runs else None, "original")
             if trace:
@@ -233,7 +234,7 @@ def evaluation_traces(results: StudyResults, folder: Path) -> list[str]:
 
 def run_kind(agent: str) -> str:
     """The kind of run that holds ``agent``'s results: the PIDs are baselines, not trained."""
-    return "baseline" if agent in ("pid", "adaptive_pid") else "transfer"
+    return "baseline" if agent in BASELINES else "transfer"
 
 
 def per_run_success(runs: list[Any], label: str) -> list[tuple[int, int]]:

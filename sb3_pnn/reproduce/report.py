@@ -126,6 +126,10 @@ def end_reasons_text() -> str:
     )
 
 
+#: The policies of the success tables, in row order: the learners, then the baselines.
+TABLE_ROWS: tuple[str, ...] = (*AGENTS, "adaptive_pid", "pid")
+
+
 def success_table(results: StudyResults) -> list[str]:
     """Figure 20 beside the paper, plus the original tasks and path following."""
     lines = [
@@ -134,7 +138,7 @@ def success_table(results: StudyResults) -> list[str]:
         + " | paper (same order) |",
         "|---|" + "---|" * (len(GENERALIZATION) + 1),
     ]
-    for agent in [*AGENTS, "adaptive_pid", "pid"]:
+    for agent in TABLE_ROWS:
         cells = []
         for path, label, _ in GENERALIZATION:
             cells.append(_pct(per_run_success(results.select(run_kind(agent), agent, path), label)))
@@ -149,7 +153,7 @@ def success_table(results: StudyResults) -> list[str]:
     cols = [(p, label) for p in ("straight", "sine") for label in ("original", "path_following")]
     lines.append("| policy | " + " | ".join(f"{p}: {TASK_TITLES[lb]}" for p, lb in cols) + " |")
     lines.append("|---|" + "---|" * len(cols))
-    for agent in [*AGENTS, "adaptive_pid", "pid"]:
+    for agent in TABLE_ROWS:
         cells = [
             _pct(per_run_success(results.select(run_kind(agent), agent, p), lb)) for p, lb in cols
         ]
@@ -180,7 +184,7 @@ def route_table(results: StudyResults) -> list[str]:
     ]
     for path, tasks in EVAL_TASKS.items():
         for label, _, _ in tasks:
-            for agent in [*AGENTS, "adaptive_pid", "pid"]:
+            for agent in TABLE_ROWS:
                 evs = [
                     r.evals[label]
                     for r in results.select(run_kind(agent), agent, path)
