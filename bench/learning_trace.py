@@ -28,7 +28,7 @@ from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes
+from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes, path_of_env
 from sb3_pnn.reproduce.work import EVAL_SEED
 from sb3_pnn.validation import VALIDATION_SEED, KeepBestOnValidation
 
@@ -123,11 +123,12 @@ def main() -> None:
         )
     try:
         setup = SETUPS[args.setup].with_(**parse_setup_changes(args.set))
+        path = path_of_env(args.env)
     except ValueError as error:
         parser.error(str(error))
     th.set_num_threads(1)
     print(f"set-up: {setup.to_dict()}", flush=True)
-    sac = setup.sac_kwargs(agent=args.agent)
+    sac = setup.sac_kwargs(agent=args.agent, path=path)
     sac["train_freq"] = tuple(sac["train_freq"])
     env = gym.make(args.env, **setup.train_env_kwargs())
     policy = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}

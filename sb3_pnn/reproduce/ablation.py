@@ -202,7 +202,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     deps=deps,
                     eval_tasks=(("own", env_id, setup.env_kwargs()),),
                     eval_episodes=budget.eval_episodes,
-                    sac_kwargs=setup.sac_kwargs(agent=agent),
+                    sac_kwargs=setup.sac_kwargs(agent=agent, path="straight"),
                     env_kwargs=setup.train_env_kwargs(),
                     validation=setup.validation(),
                 )

@@ -140,10 +140,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         adopted, skipped = adopt_runs(old, store, build_plan(config), args.made_with_tasks_revision)
     finally:
         store.close()
-    if adopted and (old / SESSIONS).is_file() and not (out / SESSIONS).exists():
-        # The old invocations' wall clock belongs to the adopted runs' cost.
+    if adopted and (old / SESSIONS).is_file():
+        # The old invocations' wall clock belongs to the adopted runs' cost. Adopting from a
+        # second folder adds its invocations that the new folder does not list yet (a folder
+        # that itself adopted from the first one lists the first one's too).
+        known = json.loads((out / SESSIONS).read_text()) if (out / SESSIONS).exists() else []
+        seen = {s.get("started") for s in known}
         sessions = json.loads((old / SESSIONS).read_text())
-        write_json_atomic(out / SESSIONS, [{**s, "adopted_from": str(old)} for s in sessions])
+        added = [{**s, "adopted_from": str(old)} for s in sessions if s.get("started") not in seen]
+        if added:
+            write_json_atomic(out / SESSIONS, known + added)
     print(f"adopted {len(adopted)} run(s) from {old} into {out}: {', '.join(adopted) or '-'}")
     for run_id, why in skipped.items():
         print(f"  not adopted: {run_id}: {why}")

@@ -325,7 +325,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         eval_tasks=with_env_kwargs(EVAL_TASKS[path], setup.env_kwargs()),
                         eval_episodes=budget.eval_episodes,
                         trace_episodes=budget.trace_episodes,
-                        sac_kwargs=setup.sac_kwargs(agent=agent),
+                        sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                         env_kwargs=setup.train_env_kwargs(),
                         validation=setup.validation(),
                     )

@@ -36,11 +36,12 @@ Factors:
   lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
   0 starts the new column as a network without priors (SAC-Single) that learns how much of the
   prior's features to take. Only PNN runs read it.
-* ``pnn_critic_priors``: PNN's critics (Q-networks) are progressive columns that read the frozen
-  prior's critic too, as Algorithm 1 transfers Q_theta along with pi_phi (written for SPNN);
-  off: the critics are plain networks and only the actor reads the prior
-  (``ProgressivePolicy(critic_priors=False)``), as section 3.2 names only the policy pi_phi_lambda
-  as PNN's first column. Only PNN runs read it.
+* ``pnn_critic_priors``: on which planning paths PNN's critics (Q-networks) are progressive
+  columns that read the frozen prior's critic too, as Algorithm 1 transfers Q_theta along with
+  pi_phi (written for SPNN): ``"both"``, ``"straight"``, ``"sine"`` or ``"neither"`` (``--set``
+  also takes ``true`` for both and ``false`` for neither). Elsewhere the critics are plain
+  networks and only the actor reads the prior (``ProgressivePolicy(critic_priors=False)``), as
+  section 3.2 names only the policy pi_phi_lambda as PNN's first column. Only PNN runs read it.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it.
@@ -103,7 +104,7 @@ class TrainingSetup:
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
-    pnn_critic_priors: bool = True
+    pnn_critic_priors: str = "both"
     spnn_d_th: float = PAPER_D_TH
 
     def __post_init__(self) -> None:
@@ -118,6 +119,15 @@ class TrainingSetup:
         if not float(self.spnn_d_th) > 0.0:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
+            )
+        if isinstance(self.pnn_critic_priors, bool):  # --set pnn_critic_priors=true / false
+            object.__setattr__(
+                self, "pnn_critic_priors", "both" if self.pnn_critic_priors else "neither"
+            )
+        if self.pnn_critic_priors not in CRITIC_PRIOR_PATHS:
+            raise ValueError(
+                f"pnn_critic_priors={self.pnn_critic_priors!r} is not allowed: expected one of "
+                f"{list(CRITIC_PRIOR_PATHS)} (or true / false)"
             )
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
@@ -138,10 +148,17 @@ class TrainingSetup:
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
         return {**self.env_kwargs(), "start_noise": list(noise)}
 
-    def sac_kwargs(self, prior: bool = False, agent: str = "") -> dict[str, Any]:
+    def critic_priors_on(self, path: str) -> bool:
+        """Whether PNN's critics read the prior's critic on planning path ``path``."""
+        if path not in CRITIC_PRIOR_PATHS["both"]:
+            raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
+        return path in CRITIC_PRIOR_PATHS[self.pnn_critic_priors]
+
+    def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
-        PNN's ``lateral_scale_init`` and ``critic_priors``, ``agent="spnn"`` SPNN's ``d_th``."""
+        PNN's ``lateral_scale_init`` and, on planning path ``path`` (``"straight"`` or
+        ``"sine"``), ``critic_priors``; ``agent="spnn"`` SPNN's ``d_th``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -155,8 +172,20 @@ class TrainingSetup:
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
         for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
+            if agent != reader:
+                continue
+            if name == "pnn_critic_priors":
+                if self.pnn_critic_priors != "both":
+                    if not path:
+                        raise ValueError(
+                            f"pnn_critic_priors={self.pnn_critic_priors!r} depends on the path: "
+                            "expected path='straight' or 'sine'"
+                        )
+                    if not self.critic_priors_on(path):
+                        kwargs["policy_kwargs"][key] = False
+                continue
             default = _FIELD_DEFAULTS[name]
-            if agent == reader and getattr(self, name) != default:
+            if getattr(self, name) != default:
                 kwargs["policy_kwargs"][key] = type(default)(getattr(self, name))
         return kwargs
 
@@ -182,6 +211,15 @@ class TrainingSetup:
     def with_(self, **changes: Any) -> TrainingSetup:
         return replace(self, **changes)
 
+
+#: The values of ``pnn_critic_priors``: value -> the planning paths whose PNN critics read the
+#: prior's critic.
+CRITIC_PRIOR_PATHS: dict[str, tuple[str, ...]] = {
+    "both": ("straight", "sine"),
+    "straight": ("straight",),
+    "sine": ("sine",),
+    "neither": (),
+}
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
 #: written into that agent's ``policy_kwargs`` only when it departs from its default (the
@@ -209,6 +247,7 @@ OURS = TrainingSetup(
     net_arch=(64, 64),
     keep_best=True,
     pnn_lateral_init=0.0,
+    pnn_critic_priors="straight",
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -232,6 +271,17 @@ FACTOR_LABELS: dict[str, str] = {
 }
 
 
+def path_of_env(env_id: str) -> str:
+    """The path kind of an rov_envs task, ``"straight"`` or ``"sine"`` (which the per-path
+    factors read), from its id, e.g. ``"rov_envs/PlanningSineDense-v0"`` -> ``"sine"``."""
+    from rov_envs.tasks import PATH_SINE, TASKS
+
+    name = str(env_id).split("/")[-1].rsplit("-v", 1)[0]
+    if name not in TASKS:
+        raise ValueError(f"env {env_id!r} is not an rov_envs task: expected one of {list(TASKS)}")
+    return "sine" if TASKS[name].path_kind == PATH_SINE else "straight"
+
+
 def describe_value(name: str, value: Any) -> str:
     """A factor value as the report prints it."""
     if name == "prior_updates" and not value:
@@ -243,6 +293,8 @@ def describe_value(name: str, value: Any) -> str:
         return "1 per step" if freq == 1 else f"1 per {freq} steps"
     if name == "net_arch":
         return "[" + ", ".join(str(w) for w in value) + "]"
+    if name == "pnn_critic_priors":
+        return {"both": "on", "neither": "off"}.get(value, f"on the {value} path only")
     if isinstance(value, bool):
         return "on" if value else "off"
     if name == "success_reward":
@@ -281,6 +333,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
         elif isinstance(default, float):
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
             value = float(value) if ok else value
+        elif name == "pnn_critic_priors":  # a path name, or true / false for both / neither
+            ok = isinstance(value, (str, bool))
         else:
             ok = isinstance(value, str)
         if not ok:

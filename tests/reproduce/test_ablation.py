@@ -216,7 +216,7 @@ def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str
 
 def test_agent_factor_values_checked() -> None:
     assert {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES} == AGENT_FACTORS
-    assert OURS.sac_kwargs(agent="pnn")["policy_kwargs"]["lateral_scale_init"] == 0.0
+    assert OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 0.0
     # both set-ups switch at eq. 15's 12.5 m (the policy's default), so no d_th is written
     assert "d_th" not in PAPER.sac_kwargs(agent="spnn")["policy_kwargs"]
     assert "d_th" not in OURS.sac_kwargs(agent="spnn")["policy_kwargs"]

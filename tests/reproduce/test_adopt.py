@@ -104,3 +104,28 @@ def test_report_names_the_adopted_runs(tmp_path, capsys) -> None:
     assert "adopted unchanged from ../old " in report  # relative: no machine's absolute path
     assert str(tmp_path) not in report.split("## Cost per run")[0].split("- runs finished")[1]
     assert "missing: 0" in report and "over 1 invocation(s)" in report  # the old one's
+
+
+def test_adopting_from_two_folders_counts_each_invocation_once(tmp_path) -> None:
+    """A study put together from two older ones (here: PNN's critic setting per path, taken
+    from a study with the Q-columns everywhere and one with them nowhere, which had itself
+    adopted the first one's other runs) lists every invocation that made its runs, once."""
+    from rov_envs.tasks import TASKS_REVISION
+    from sb3_pnn.reproduce.cli import main as study_main
+
+    study = ["--tiny", "--seeds", "1", "--eval-episodes", "10", "--jobs", "1", "--no-progress"]
+    on, off, new = tmp_path / "on", tmp_path / "off", tmp_path / "new"
+    rev = ["--made-with-tasks-revision", str(TASKS_REVISION), "--"]
+    assert study_main([*study, "--set", "pnn_critic_priors=true", "--out", str(on)], fake_work) == 0
+    off_study = [*study, "--set", "pnn_critic_priors=false", "--out", str(off)]
+    assert main(["--from", str(on), *rev, *off_study]) == 0
+    assert study_main(off_study, work=fake_work) == 0  # trains the two PNN runs
+    assert len(json.loads((off / "sessions.json").read_text())) == 2
+    assert main(["--from", str(on), *rev, *study, "--out", str(new)]) == 0
+    assert main(["--from", str(off), *rev, *study, "--out", str(new)]) == 0
+    sessions = json.loads((new / "sessions.json").read_text())
+    assert [s["adopted_from"] for s in sessions] == [str(on), str(off)]
+    assert study_main([*study, "--out", str(new)], work=fake_work) == 0
+    report = (new / "report.md").read_text()
+    assert "missing: 0" in report and "over 3 invocation(s)" in report  # on, off, this one
+    assert "adopted unchanged from ../off, ../on" in report

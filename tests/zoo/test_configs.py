@@ -8,7 +8,7 @@ import pytest
 
 import rov_envs
 from sb3_pnn import DiscreteSAC
-from sb3_pnn.reproduce.setups import SETUPS
+from sb3_pnn.reproduce.setups import SETUPS, path_of_env
 from sb3_pnn.zoo.configs import (
     CONFIG_ENV_VAR,
     default_config_path,
@@ -47,11 +47,11 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
     """zoo_configs/<algo>.yml is the study's ``ours``, zoo_configs/paper/<algo>.yml its ``paper``:
     the update schedule, network, learning_starts and every env keyword come from setups.py."""
     training = SETUPS[setup]
-    sac = training.sac_kwargs(prior=False, agent=algo)
     config = entries(algo, setup)
     path = default_config_path(algo, setup)
     assert path.parent.name == ("zoo_configs" if setup == "ours" else "paper")
     for env_id in APPLIES[algo]:
+        sac = training.sac_kwargs(prior=False, agent=algo, path=path_of_env(env_id))
         entry = validate_entry(
             config[env_id], name=env_id, path=path, algo=algo, algo_class=OUR_ALGOS[algo]
         )
@@ -69,7 +69,10 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
         assert env_kwargs == expected, (setup, algo, env_id)
         if algo != "sac_multi":  # SAC-Multi takes its architecture from the prior
             for key, value in sac["policy_kwargs"].items():
-                assert entry["policy_kwargs"][key] == value, (setup, algo, key)
+                assert entry["policy_kwargs"][key] == value, (setup, algo, env_id, key)
+            # the set-up's per-path factor: critic_priors is written only where it is off
+            wanted = sac["policy_kwargs"].get("critic_priors", True)
+            assert entry["policy_kwargs"].get("critic_priors", True) == wanted, (setup, env_id)
             assert "lateral_scale_init" not in entry["policy_kwargs"] or algo == "pnn"
         assert entry["n_timesteps"] > 0
 

@@ -1,0 +1,92 @@
+"""The per-path factor ``pnn_critic_priors``: which planning path's PNN critics read the prior's
+critic, and that a per-path choice reproduces, run for run, the specs of the studies that chose
+it (so their runs can be adopted instead of retrained)."""
+
+from __future__ import annotations
+
+import pytest
+
+from sb3_pnn.reproduce.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.setups import (
+    OURS,
+    PAPER,
+    describe_value,
+    parse_setup_changes,
+    path_of_env,
+)
+
+STUDY_SCHEDULE = ("updates=step:4", "prior_updates=step:1")
+
+
+def pnn_specs(*changes: str) -> dict[str, object]:
+    """PNN's run specs of a one-seed ``ours`` study with ``--set`` ``changes``: path -> spec."""
+    config = StudyConfig(
+        budget_name="quick", seeds=1, setup_changes=tuple(parse_setup_changes(changes).items())
+    )
+    return {s.path: s for s in build_plan(config) if s.agent == "pnn"}
+
+
+def test_each_value_names_the_paths_whose_critics_read_the_prior() -> None:
+    expected = {
+        "both": (True, True),
+        "straight": (True, False),
+        "sine": (False, True),
+        "neither": (False, False),
+    }
+    for value, (on_straight, on_sine) in expected.items():
+        setup = PAPER.with_(pnn_critic_priors=value)
+        for path, on in (("straight", on_straight), ("sine", on_sine)):
+            kwargs = setup.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
+            # written only where it departs from the policy's default (True)
+            assert kwargs.get("critic_priors", True) is on, (value, path)
+            assert ("critic_priors" in kwargs) is (not on)
+        # no other agent reads it
+        assert "critic_priors" not in setup.sac_kwargs(agent="spnn", path="sine")["policy_kwargs"]
+
+
+def test_booleans_of_earlier_commands_still_work() -> None:
+    """``--set pnn_critic_priors=false`` (the commands in docs/ablation) means neither path."""
+    assert PAPER.with_(**parse_setup_changes(["pnn_critic_priors=false"])).pnn_critic_priors == (
+        "neither"
+    )
+    assert PAPER.with_(**parse_setup_changes(["pnn_critic_priors=true"])).pnn_critic_priors == (
+        "both"
+    )
+    assert parse_setup_changes(["pnn_critic_priors=straight"]) == {"pnn_critic_priors": "straight"}
+    assert describe_value("pnn_critic_priors", "straight") == "on the straight path only"
+    assert describe_value("pnn_critic_priors", "neither") == "off"
+
+
+def test_bad_values_are_refused_by_name() -> None:
+    with pytest.raises(ValueError, match=r"pnn_critic_priors='curvy' is not allowed: expected one"):
+        PAPER.with_(pnn_critic_priors="curvy")
+    with pytest.raises(ValueError, match=r"--set 'pnn_critic_priors=3' is not allowed"):
+        parse_setup_changes(["pnn_critic_priors=3"])
+    # a per-path value needs the path
+    with pytest.raises(ValueError, match="depends on the path: expected path='straight' or 'sine'"):
+        PAPER.with_(pnn_critic_priors="straight").sac_kwargs(agent="pnn")
+    with pytest.raises(ValueError, match=r"path='spiral' is not allowed"):
+        PAPER.critic_priors_on("spiral")
+
+
+def test_path_of_env() -> None:
+    assert path_of_env("rov_envs/PlanningSineDense-v0") == "sine"
+    assert path_of_env("rov_envs/PathFollowingSine-v0") == "sine"
+    assert path_of_env("rov_envs/PlanningStraightUniform-v0") == "straight"
+    assert path_of_env("ObstacleAvoidance-v0") == "straight"
+    with pytest.raises(ValueError, match="env 'rov_envs/Nope-v0' is not an rov_envs task"):
+        path_of_env("rov_envs/Nope-v0")
+
+
+def test_a_per_path_choice_reproduces_each_paths_runs_of_the_uniform_studies() -> None:
+    """Q-columns on the straight path only: the straight PNN run is the one of the study with
+    them everywhere, the sine run the one of the study with them nowhere, hash for hash."""
+    per_path = pnn_specs(*STUDY_SCHEDULE, "pnn_critic_priors=straight")
+    on = pnn_specs(*STUDY_SCHEDULE, "pnn_critic_priors=true")
+    off = pnn_specs(*STUDY_SCHEDULE, "pnn_critic_priors=false")
+    assert per_path["straight"].config_hash() == on["straight"].config_hash()
+    assert per_path["sine"].config_hash() == off["sine"].config_hash()
+    assert per_path["sine"].config_hash() != on["sine"].config_hash()
+    assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"].get(
+        "critic_priors", True
+    ) is OURS.critic_priors_on("straight")
