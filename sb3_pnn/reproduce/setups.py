@@ -172,22 +172,26 @@ class TrainingSetup:
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
         for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
-            if agent != reader:
-                continue
-            if name == "pnn_critic_priors":
-                if self.pnn_critic_priors != "both":
-                    if not path:
-                        raise ValueError(
-                            f"pnn_critic_priors={self.pnn_critic_priors!r} depends on the path: "
-                            "expected path='straight' or 'sine'"
-                        )
-                    if not self.critic_priors_on(path):
-                        kwargs["policy_kwargs"][key] = False
-                continue
-            default = _FIELD_DEFAULTS[name]
-            if getattr(self, name) != default:
-                kwargs["policy_kwargs"][key] = type(default)(getattr(self, name))
+            if agent == reader:
+                value, default = self._policy_value(name, path)
+                if value != default:
+                    kwargs["policy_kwargs"][key] = value
         return kwargs
+
+    def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
+        """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
+        agent factor; ``pnn_critic_priors`` is per path, the others the same on both."""
+        if name != "pnn_critic_priors":
+            default = _FIELD_DEFAULTS[name]
+            return type(default)(getattr(self, name)), default
+        if self.pnn_critic_priors == "both":
+            return True, True
+        if not path:
+            raise ValueError(
+                f"pnn_critic_priors={self.pnn_critic_priors!r} depends on the path: "
+                "expected path='straight' or 'sine'"
+            )
+        return self.critic_priors_on(path), True
 
     def validation(self) -> dict[str, int]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy)."""
