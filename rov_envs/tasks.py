@@ -141,3 +141,13 @@ TASKS: dict[str, TaskSpec] = {
 
 #: The registered ids, in the table order of the README.
 ENV_IDS: tuple[str, ...] = tuple(f"rov_envs/{name}-v0" for name in TASKS)
+
+
+def task_of_env(env_id: str) -> TaskSpec:
+    """The task behind an environment id: ``"rov_envs/PlanningSine-v0"`` (or without the
+    namespace, ``"PlanningSine-v0"``) -> ``TASKS["PlanningSine"]``; ValueError naming the id
+    and the known tasks otherwise."""
+    name = str(env_id).split("/")[-1].rsplit("-v", 1)[0]
+    if name not in TASKS:
+        raise ValueError(f"env {env_id!r} is not an rov_envs task: expected one of {list(TASKS)}")
+    return TASKS[name]

@@ -22,7 +22,14 @@ from dataclasses import dataclass
 from typing import Any
 
 from sb3_pnn.reproduce.plan import PRIOR_ENVS, RunSpec, check_budget_and_seeds, prior_run
-from sb3_pnn.reproduce.setups import FACTOR_LABELS, OURS, PAPER, TrainingSetup, describe_value
+from sb3_pnn.reproduce.setups import (
+    FACTOR_LABELS,
+    OURS,
+    PAPER,
+    TrainingSetup,
+    describe_value,
+    path_of_env,
+)
 
 #: Ablation tasks: name -> (environment id, agent, names of the tasks that give its priors).
 TASKS: dict[str, tuple[str, str, tuple[str, ...]]] = {
@@ -191,18 +198,19 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                 deps = tuple(add_single(cell, t, 0, cell.prior_share) for t in prior_tasks)
                 setup = cell.setup
                 rid = run_id(name, task, seed)
+                path = path_of_env(env_id)
                 runs[rid] = RunSpec(
                     run_id=rid,
                     kind="transfer",
                     agent=agent,
-                    path="straight",
+                    path=path,
                     env_id=env_id,
                     seed=seed,
                     episodes=budget.episodes[task],
                     deps=deps,
                     eval_tasks=(("own", env_id, setup.env_kwargs()),),
                     eval_episodes=budget.eval_episodes,
-                    sac_kwargs=setup.sac_kwargs(agent=agent, path="straight"),
+                    sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                     env_kwargs=setup.train_env_kwargs(),
                     validation=setup.validation(),
                 )

@@ -97,10 +97,10 @@ def end_reasons() -> dict[str, str]:
     """What each ``end_reason`` of the env means, with the numbers read from rov_envs."""
     from rov_envs.config import TARGET_RADIUS, TIME_LIMIT_FACTOR, U_REF
     from rov_envs.rewards import COLLISION_DISTANCE, END_REASONS, HALF_PI
-    from rov_envs.tasks import TASKS
+    from rov_envs.tasks import task_of_env
 
     d_l = ", ".join(
-        f"{TASKS[env_id.split('/')[1].rsplit('-v', 1)[0]].d_L:g} m on the {path} path"
+        f"{task_of_env(env_id).d_L:g} m on the {path} path"
         for path, env_id in PLANNING_ENVS.items()
     )
     text = {

@@ -278,12 +278,9 @@ FACTOR_LABELS: dict[str, str] = {
 def path_of_env(env_id: str) -> str:
     """The path kind of an rov_envs task, ``"straight"`` or ``"sine"`` (which the per-path
     factors read), from its id, e.g. ``"rov_envs/PlanningSineDense-v0"`` -> ``"sine"``."""
-    from rov_envs.tasks import PATH_SINE, TASKS
+    from rov_envs.tasks import PATH_SINE, task_of_env
 
-    name = str(env_id).split("/")[-1].rsplit("-v", 1)[0]
-    if name not in TASKS:
-        raise ValueError(f"env {env_id!r} is not an rov_envs task: expected one of {list(TASKS)}")
-    return "sine" if TASKS[name].path_kind == PATH_SINE else "straight"
+    return "sine" if task_of_env(env_id).path_kind == PATH_SINE else "straight"
 
 
 def describe_value(name: str, value: Any) -> str:
