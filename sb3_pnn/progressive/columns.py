@@ -22,6 +22,15 @@ i = 1..L and the output layer L+1 of the new column (eq. 13)::
 * c_j(s) (B, 1) and own_weight are 1 for the PNN. The SPNN (eq. 15) sets own_weight = tau and
   c_j(s) = sigma * g_j(s) with the gate weights g(s) of :mod:`.gates` (see
   :mod:`.selective_policy` for the reading of eq. 15).
+* Starting as the priors (``output_lateral_bias=True``, then
+  :meth:`ProgressiveNet.start_as_priors_`; not in the paper or in Rusu et al., whose new column
+  starts at random): the output layer's
+  laterals get a bias and copy each prior's own output layer (weight and bias, divided by the
+  constant part m of c_j), and the new column's own output weights and bias start at zero, so
+  that before any update the column's output is sum_j g_j(s) * (prior j's own output): the
+  prior's logits or Q-values for a PNN with one prior, the selected prior's for the SPNN's hard
+  gate. The hidden layers start at random as before; they get gradients once the own output
+  weights have moved from zero (the residual "zero-initialised head" of fine-tuning).
 
 The prior columns are evaluated under ``torch.no_grad()``: nothing upstream of them is trained.
 """
@@ -113,6 +122,8 @@ class ProgressiveNet(nn.Module):
     :param priors: The frozen prior columns j < k
     :param learn_lateral_scale: Learn Rusu et al.'s scalar alpha per lateral
     :param lateral_scale_init: Initial alpha
+    :param output_lateral_bias: The output layer's laterals have a bias (to hold a prior's own
+        output bias after :meth:`start_as_priors_`)
     """
 
     def __init__(
@@ -124,6 +135,7 @@ class ProgressiveNet(nn.Module):
         priors: Sequence[FrozenColumn],
         learn_lateral_scale: bool = True,
         lateral_scale_init: float = 1.0,
+        output_lateral_bias: bool = False,
     ):
         super().__init__()
         self.priors = nn.ModuleList(priors)
@@ -149,9 +161,16 @@ class ProgressiveNet(nn.Module):
                 row.append(src)
                 if src is not None:
                     self.laterals[f"{i}_{j}"] = nn.Linear(
-                        prior.spec.hidden[src], sizes[i + 1], bias=False
+                        prior.spec.hidden[src],
+                        sizes[i + 1],
+                        bias=output_lateral_bias and i == n_out - 1,
                     )
             self.sources.append(row)
+        # per layer, the laterals that feed it: (prior j, its hidden layer, key in laterals)
+        self._lateral_plan: list[list[tuple[int, int, str]]] = [
+            [(j, src, f"{i}_{j}") for j, src in enumerate(row) if src is not None]
+            for i, row in enumerate(self.sources)
+        ]
         n_priors = max(len(priors), 1)
         scale = th.full((n_out, n_priors), float(lateral_scale_init))
         if learn_lateral_scale:
@@ -171,6 +190,15 @@ class ProgressiveNet(nn.Module):
         own_weight: float = 1.0,
     ) -> th.Tensor:
         """Output of column k. ``lateral_weights`` (B, n_priors) are the c_j(s) (1 if None)."""
+        # A fixed (not learned) alpha of exactly 1 is skipped: x * 1.0 == x in floating point,
+        # so the output is the same bit for bit, without two tensor operations per lateral.
+        scale = self.lateral_scale
+        fixed = None if scale.requires_grad or scale.device.type != "cpu" else scale.tolist()
+        weight_of = (
+            None
+            if lateral_weights is None
+            else [lateral_weights[:, j : j + 1] for j in range(lateral_weights.shape[1])]
+        )
         h = x
         last = len(self.layers) - 1
         for i, layer in enumerate(self.layers):
@@ -179,15 +207,49 @@ class ProgressiveNet(nn.Module):
                 if own_weight == 1.0
                 else own_weight * F.linear(h, layer.weight) + layer.bias
             )
-            for j, src in enumerate(self.sources[i]):
-                if src is None:
-                    continue
-                lat = self.lateral_scale[i, j] * self.laterals[f"{i}_{j}"](prior_hidden[j][src])
-                if lateral_weights is not None:
-                    lat = lateral_weights[:, j : j + 1] * lat
+            for j, src, key in self._lateral_plan[i]:
+                lat = self.laterals[key](prior_hidden[j][src])
+                if fixed is None or fixed[i][j] != 1.0:
+                    lat = self.lateral_scale[i, j] * lat
+                if weight_of is not None:
+                    lat = weight_of[j] * lat
                 z = z + lat
             h = self.activation(z) if i < last else z
         return h
+
+    @th.no_grad()
+    def start_as_priors_(self, multiplier: float = 1.0) -> None:
+        """Make the output equal sum_j (c_j(s) / multiplier) * (prior j's own output) before any
+        update (module docstring): the output laterals copy the priors' output layers divided by
+        ``multiplier`` (the constant part of c_j: 1 for the PNN, sigma for the SPNN), their scale
+        alpha is set to 1, and the own output weights and bias to 0. Needs
+        ``output_lateral_bias=True`` and priors with hidden layers and this column's output size.
+        """
+        last = len(self.layers) - 1
+        if not self.priors:
+            raise ValueError("start_as_priors_ needs prior columns; this column has none")
+        if not multiplier > 0:
+            raise ValueError(f"multiplier must be > 0, got {multiplier!r}")
+        own = self.layers[last]
+        for j, prior in enumerate(self.priors):
+            lateral = self.laterals[f"{last}_{j}"] if self.sources[last][j] is not None else None
+            if lateral is None or lateral.bias is None:
+                raise ValueError(
+                    f"prior {j} cannot be copied into the output layer: it needs hidden layers "
+                    "and the column output_lateral_bias=True"
+                )
+            weight, bias = prior.layer(prior.n_layers - 1)
+            if tuple(weight.shape) != tuple(lateral.weight.shape):
+                raise ValueError(
+                    f"prior {j}'s output layer {tuple(weight.shape)} does not fit this column's "
+                    f"output lateral {tuple(lateral.weight.shape)} (a different number of "
+                    "actions?)"
+                )
+            lateral.weight.copy_(weight / multiplier)
+            lateral.bias.copy_(bias / multiplier)
+            self.lateral_scale[last, j] = 1.0
+        own.weight.zero_()
+        own.bias.zero_()
 
     def zero_laterals_(self) -> None:
         """Set every U to zero (column k then ignores the priors); for tests and ablations."""

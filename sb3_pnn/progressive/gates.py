@@ -54,6 +54,11 @@ class DistanceGate(nn.Module):
         self.sonar_key = sonar_key
         self.temperature = float(temperature)
 
+    def rule(self) -> tuple[str, float, float, str, float]:
+        """What the gate computes from: two gates with the same rule give the same weights for
+        the same observation (they have no parameters)."""
+        return (self.mode, self.d_th, self.sonar_range, self.sonar_key, self.temperature)
+
     def forward(self, obs: dict[str, th.Tensor], features: th.Tensor | None = None) -> th.Tensor:
         d = nearest_distance(obs, self.sonar_key, self.sonar_range)
         if self.mode == "hard":

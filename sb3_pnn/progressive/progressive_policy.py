@@ -38,6 +38,7 @@ from torch import nn
 
 from sb3_pnn.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
+from sb3_pnn.progressive.gates import DistanceGate
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
 from sb3_pnn.progressive.prior_loading import PriorCheckpoint, PriorSpec, load_prior
 
@@ -158,8 +159,16 @@ class ProgressiveCritic(BaseModel):
             features = self.features_extractor(pre)
         prior_inputs = [feed(pre) for feed in self.feeds]
         out = []
+        # distance gates with the same rule give the same weights: computed once per forward
+        by_rule: dict[tuple, th.Tensor | None] = {}
         for q_net, gate, has_gate in zip(self.q_networks, self.gates, self._has_gate, strict=True):
-            weights, _ = _lateral_weights(gate if has_gate else None, self.sigma, pre, features)
+            rule = gate.rule() if isinstance(gate, DistanceGate) else None
+            if rule is not None and rule in by_rule:
+                weights = by_rule[rule]
+            else:
+                weights, _ = _lateral_weights(gate if has_gate else None, self.sigma, pre, features)
+                if rule is not None:
+                    by_rule[rule] = weights
             out.append(q_net(features, q_net.prior_hidden(prior_inputs), weights, self.own_weight))
         return tuple(out)
 
@@ -200,6 +209,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
     :param critic_priors: Give the critics' Q-networks the priors' critic columns (the paper's
         Algorithm 1 transfers Q too); False: the critics are plain MLPs over the new observation
         and only the actor reads the priors (an ablation)
+    :param start_as_prior: Before any update, every network that reads priors outputs its
+        prior's own output (the actor the prior's logits, a critic the prior's Q-values; the
+        SPNN the gate-selected prior's): output laterals with a bias copy the priors' output
+        layers and the new column's own output layer starts at zero
+        (:meth:`.columns.ProgressiveNet.start_as_priors_`; not in the paper, which starts the
+        new column at random). A PNN needs exactly one prior for it
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -225,6 +240,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         learn_lateral_scale: bool = True,
         lateral_scale_init: float = 1.0,
         critic_priors: bool = True,
+        start_as_prior: bool = False,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         if features_extractor_class is None:
@@ -252,6 +268,10 @@ class ProgressivePolicy(DiscreteSACPolicy):
         if not isinstance(critic_priors, bool):
             raise ValueError(f"critic_priors must be True or False, got {critic_priors!r}")
         self.critic_priors = critic_priors
+        if not isinstance(start_as_prior, bool):
+            raise ValueError(f"start_as_prior must be True or False, got {start_as_prior!r}")
+        self._check_start_as_prior(start_as_prior, len(self.prior_specs))
+        self.start_as_prior = start_as_prior
         self._user_kwargs = dict(
             net_arch=net_arch,
             activation_fn=activation_fn,
@@ -286,6 +306,15 @@ class ProgressivePolicy(DiscreteSACPolicy):
     def _make_gate(self, features_dim: int) -> nn.Module | None:
         return None
 
+    def _check_start_as_prior(self, start_as_prior: bool, n_priors: int) -> None:
+        """A PNN's laterals all weigh 1, so several priors' outputs would add up; the SPNN's
+        gate weights sum to 1 (it overrides this)."""
+        if start_as_prior and n_priors != 1:
+            raise ValueError(
+                f"start_as_prior=True needs exactly one prior for a ProgressivePolicy (the "
+                f"priors' outputs would add up), got {n_priors}"
+            )
+
     def _mixing(self) -> tuple[float, float]:
         """(sigma, own_weight): the weights of the laterals and of the own path (1, 1 for PNN)."""
         return 1.0, 1.0
@@ -295,6 +324,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             learn_lateral_scale=self.learn_lateral_scale,
             lateral_scale_init=self.lateral_scale_init,
             critic_priors=self.critic_priors,
+            start_as_prior=self.start_as_prior,
         )
 
     # --- networks -------------------------------------------------------------------------
@@ -317,7 +347,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
     def _net(
         self, features_dim: int, hidden: list[int], columns: list[FrozenColumn]
     ) -> ProgressiveNet:
-        return ProgressiveNet(
+        start = self.start_as_prior and len(columns) > 0
+        net = ProgressiveNet(
             features_dim,
             hidden,
             int(self.action_space.n),
@@ -325,7 +356,11 @@ class ProgressivePolicy(DiscreteSACPolicy):
             columns,
             learn_lateral_scale=self.learn_lateral_scale,
             lateral_scale_init=self.lateral_scale_init,
+            output_lateral_bias=start,
         )
+        if start:  # (a saved model's state dict then overwrites these weights)
+            net.start_as_priors_(multiplier=self._mixing()[0])
+        return net
 
     def make_actor(
         self, features_extractor: BaseFeaturesExtractor | None = None

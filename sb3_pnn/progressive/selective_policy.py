@@ -107,6 +107,7 @@ class SelectivePolicy(ProgressivePolicy):
         temperature: float = 1.0,
         gate_hidden: int = 32,
         critic_priors: bool = True,
+        start_as_prior: bool = False,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -147,6 +148,7 @@ class SelectivePolicy(ProgressivePolicy):
             learn_lateral_scale,
             lateral_scale_init,
             critic_priors,
+            start_as_prior,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:
@@ -157,6 +159,10 @@ class SelectivePolicy(ProgressivePolicy):
             )
         if self._checkpoints is not None:  # files given now (a saved model was checked then)
             check_prior_order(specs, self.sonar_key)
+
+    def _check_start_as_prior(self, start_as_prior: bool, n_priors: int) -> None:
+        """Any number of priors: the gate weights sum to 1, so the output starts as the
+        gate-weighted mix of the priors' outputs (the selected prior's with the hard gate)."""
 
     def _make_gate(self, features_dim: int) -> nn.Module | None:
         if self.gate == "learned":

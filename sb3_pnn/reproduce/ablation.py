@@ -60,6 +60,10 @@ NOT_ABLATED: dict[str, str] = {
     + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
     "pnn_critic_priors": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it off (docs/ablation/pnn_critic_priors)",
+    "pnn_start_as_prior": _ONLY_PNN
+    + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/start_as_prior)",
+    "spnn_start_as_prior": "measured beside pnn_start_as_prior by retraining the 5-seed "
+    "study's SPNN runs with it on (docs/ablation/start_as_prior)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

@@ -42,6 +42,15 @@ Factors:
   also takes ``true`` for both and ``false`` for neither). Elsewhere the critics are plain
   networks and only the actor reads the prior (``ProgressivePolicy(critic_priors=False)``), as
   section 3.2 names only the policy pi_phi_lambda as PNN's first column. Only PNN runs read it.
+* ``pnn_start_as_prior``: on which planning paths (values as ``pnn_critic_priors``) the PNN's
+  networks start as their prior: before any update the actor outputs the prior's logits and
+  each critic that reads the prior's critic its Q-values; the new column's own output layer
+  starts at zero and the output laterals copy the prior's output layers
+  (``start_as_prior=True``, :meth:`sb3_pnn.progressive.columns.ProgressiveNet.start_as_priors_`).
+  Off: the new column starts at random, as in Rusu et al. (2016) and, by its silence, the paper.
+  SAC-Multi, the paper's other way to reuse the prior, starts from its weights too. Only PNN
+  runs read it. ``spnn_start_as_prior`` (a bool) does the same for the SPNN, whose output then
+  starts as the gate-selected prior's.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it.
@@ -105,6 +114,8 @@ class TrainingSetup:
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
     pnn_critic_priors: str = "both"
+    pnn_start_as_prior: str = "neither"
+    spnn_start_as_prior: bool = False
     spnn_d_th: float = PAPER_D_TH
 
     def __post_init__(self) -> None:
@@ -120,15 +131,15 @@ class TrainingSetup:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
             )
-        if isinstance(self.pnn_critic_priors, bool):  # --set pnn_critic_priors=true / false
-            object.__setattr__(
-                self, "pnn_critic_priors", "both" if self.pnn_critic_priors else "neither"
-            )
-        if self.pnn_critic_priors not in CRITIC_PRIOR_PATHS:
-            raise ValueError(
-                f"pnn_critic_priors={self.pnn_critic_priors!r} is not allowed: expected one of "
-                f"{list(CRITIC_PRIOR_PATHS)} (or true / false)"
-            )
+        for name in PER_PATH_FACTORS:
+            value = getattr(self, name)
+            if isinstance(value, bool):  # --set pnn_critic_priors=true / false
+                object.__setattr__(self, name, "both" if value else "neither")
+            if getattr(self, name) not in PATH_CHOICES:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected one of "
+                    f"{list(PATH_CHOICES)} (or true / false)"
+                )
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
@@ -148,17 +159,22 @@ class TrainingSetup:
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
         return {**self.env_kwargs(), "start_noise": list(noise)}
 
+    def on_path(self, name: str, path: str) -> bool:
+        """Whether the per-path factor ``name`` is on for planning path ``path``."""
+        if path not in PATH_CHOICES["both"]:
+            raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
+        return path in PATH_CHOICES[getattr(self, name)]
+
     def critic_priors_on(self, path: str) -> bool:
         """Whether PNN's critics read the prior's critic on planning path ``path``."""
-        if path not in CRITIC_PRIOR_PATHS["both"]:
-            raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
-        return path in CRITIC_PRIOR_PATHS[self.pnn_critic_priors]
+        return self.on_path("pnn_critic_priors", path)
 
     def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
         PNN's ``lateral_scale_init`` and, on planning path ``path`` (``"straight"`` or
-        ``"sine"``), ``critic_priors``; ``agent="spnn"`` SPNN's ``d_th``."""
+        ``"sine"``), ``critic_priors`` and ``start_as_prior``; ``agent="spnn"`` SPNN's ``d_th``
+        and ``start_as_prior``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -180,18 +196,19 @@ class TrainingSetup:
 
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
-        agent factor; ``pnn_critic_priors`` is per path, the others the same on both."""
-        if name != "pnn_critic_priors":
+        agent factor; those in :data:`PER_PATH_FACTORS` are per path, the others the same on
+        both paths."""
+        if name not in PER_PATH_FACTORS:
             default = _FIELD_DEFAULTS[name]
             return type(default)(getattr(self, name)), default
-        if self.pnn_critic_priors == "both":
-            return True, True
+        value, default = getattr(self, name), _FIELD_DEFAULTS[name] == "both"
+        if value in ("both", "neither"):
+            return value == "both", default
         if not path:
             raise ValueError(
-                f"pnn_critic_priors={self.pnn_critic_priors!r} depends on the path: "
-                "expected path='straight' or 'sine'"
+                f"{name}={value!r} depends on the path: expected path='straight' or 'sine'"
             )
-        return self.critic_priors_on(path), True
+        return self.on_path(name, path), default
 
     def validation(self) -> dict[str, int]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy)."""
@@ -216,14 +233,18 @@ class TrainingSetup:
         return replace(self, **changes)
 
 
-#: The values of ``pnn_critic_priors``: value -> the planning paths whose PNN critics read the
-#: prior's critic.
-CRITIC_PRIOR_PATHS: dict[str, tuple[str, ...]] = {
+#: The values of a per-path factor (``pnn_critic_priors``, ``pnn_start_as_prior``): value -> the
+#: planning paths on which it is on.
+PATH_CHOICES: dict[str, tuple[str, ...]] = {
     "both": ("straight", "sine"),
     "straight": ("straight",),
     "sine": ("sine",),
     "neither": (),
 }
+#: Kept under its first name (PNN's critics were the first per-path factor).
+CRITIC_PRIOR_PATHS = PATH_CHOICES
+#: Factors whose value names the planning paths they are on for.
+PER_PATH_FACTORS: tuple[str, ...] = ("pnn_critic_priors", "pnn_start_as_prior")
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
 #: written into that agent's ``policy_kwargs`` only when it departs from its default (the
@@ -231,6 +252,8 @@ CRITIC_PRIOR_PATHS: dict[str, tuple[str, ...]] = {
 AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "pnn_lateral_init": ("pnn", "lateral_scale_init"),
     "pnn_critic_priors": ("pnn", "critic_priors"),
+    "pnn_start_as_prior": ("pnn", "start_as_prior"),
+    "spnn_start_as_prior": ("spnn", "start_as_prior"),
     "spnn_d_th": ("spnn", "d_th"),
 }
 _FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
@@ -252,6 +275,7 @@ OURS = TrainingSetup(
     keep_best=True,
     pnn_lateral_init=0.0,
     pnn_critic_priors="straight",
+    pnn_start_as_prior="straight",
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -271,6 +295,8 @@ FACTOR_LABELS: dict[str, str] = {
     "keep_best": "best policy on validation episodes kept",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_critic_priors": "PNN critics read the prior's critic",
+    "pnn_start_as_prior": "PNN starts as its prior",
+    "spnn_start_as_prior": "SPNN starts as its selected prior",
     "spnn_d_th": "SPNN switch distance d_th (m)",
 }
 
@@ -294,7 +320,7 @@ def describe_value(name: str, value: Any) -> str:
         return "1 per step" if freq == 1 else f"1 per {freq} steps"
     if name == "net_arch":
         return "[" + ", ".join(str(w) for w in value) + "]"
-    if name == "pnn_critic_priors":
+    if name in PER_PATH_FACTORS:
         return {"both": "on", "neither": "off"}.get(value, f"on the {value} path only")
     if isinstance(value, bool):
         return "on" if value else "off"
@@ -334,7 +360,7 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
         elif isinstance(default, float):
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
             value = float(value) if ok else value
-        elif name == "pnn_critic_priors":  # a path name, or true / false for both / neither
+        elif name in PER_PATH_FACTORS:  # a path name, or true / false for both / neither
             ok = isinstance(value, (str, bool))
         else:
             ok = isinstance(value, str)

@@ -34,6 +34,15 @@ class ToyRovEnv(gym.Env):
         return self.observation_space.sample(), float(action == 2), done, False, info
 
 
+def toy_model(policy_class, policy_kwargs: dict, **kwargs):
+    """A DiscreteSAC on :class:`ToyRovEnv` with a small buffer and batch (``kwargs`` override)."""
+    from sb3_pnn import DiscreteSAC
+
+    options = dict(learning_starts=20, buffer_size=1000, batch_size=16, seed=0)
+    options.update(kwargs)
+    return DiscreteSAC(policy_class, ToyRovEnv(), policy_kwargs=policy_kwargs, **options)
+
+
 def batch(space: spaces.Dict, n: int, seed: int = 0) -> dict[str, np.ndarray]:
     space.seed(seed)
     samples = [space.sample() for _ in range(n)]

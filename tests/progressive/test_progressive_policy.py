@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 import torch as th
 import torch.nn.functional as F
-from pnn_toys import ToyRovEnv, batch
+from pnn_toys import batch, toy_model
+from stable_baselines3.common.preprocessing import preprocess_obs
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy
 from sb3_pnn.progressive.columns import FrozenColumn
@@ -14,16 +15,7 @@ from sb3_pnn.progressive.columns import FrozenColumn
 def _model(priors, **kwargs):
     kw = dict(priors=[priors["pf_dqn"], priors["oa_dsac"]], net_arch=[32, 24])
     kw.update(kwargs)
-    return DiscreteSAC(
-        ProgressivePolicy,
-        ToyRovEnv(),
-        policy_kwargs=kw,
-        learning_starts=20,
-        buffer_size=1000,
-        batch_size=16,
-        gradient_steps=2,
-        seed=0,
-    )
+    return toy_model(ProgressivePolicy, kw, gradient_steps=2)
 
 
 def _new_column_alone(net, features):
@@ -136,3 +128,35 @@ def test_critics_without_priors_are_plain_columns_and_survive_save_load(priors, 
 def test_critic_priors_must_be_a_bool(priors):
     with pytest.raises(ValueError, match="critic_priors must be True or False, got 'false'"):
         _model(priors, critic_priors="false")  # a YAML string would otherwise read as True
+
+
+def _eq13_written_out(net, x, hidden, weights, own_weight):
+    """Eq. 13 / 15 term by term, every lateral multiplied by its scale alpha and weight c_j."""
+    h, last = x, len(net.layers) - 1
+    for i, layer in enumerate(net.layers):
+        # own path: nn.Linear when its weight is 1 (one fused op), else tau * W h + b
+        z = layer(h) if own_weight == 1.0 else own_weight * F.linear(h, layer.weight) + layer.bias
+        for j, src in enumerate(net.sources[i]):
+            if src is not None:
+                lat = net.lateral_scale[i, j] * net.laterals[f"{i}_{j}"](hidden[j][src])
+                z = z + (lat if weights is None else weights[:, j : j + 1] * lat)
+        h = net.activation(z) if i < last else z
+    return h
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.5])
+@pytest.mark.parametrize("own_weight", [1.0, 0.5])
+def test_forward_is_eq13_bit_for_bit(priors, scale, own_weight):
+    """The forward pass skips a fixed alpha of exactly 1 and plans its laterals once; its output
+    is the written-out formula's, bit for bit, with and without lateral weights c_j(s)."""
+    policy = _model(priors, learn_lateral_scale=False, lateral_scale_init=scale).policy
+    net = policy.actor.net
+    obs, _ = policy.obs_to_tensor(batch(policy.observation_space, 8))
+    pre = preprocess_obs(obs, policy.observation_space)
+    with th.no_grad():
+        x = policy.actor.features_extractor(pre)
+        hidden = net.prior_hidden([feed(pre) for feed in policy.actor.feeds])
+        weights = th.rand(8, 2, generator=th.Generator().manual_seed(0))
+        for c in (None, weights):
+            expected = _eq13_written_out(net, x, hidden, c, own_weight)
+            assert th.equal(net(x, hidden, c, own_weight), expected)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch as th
-from pnn_toys import SONAR_RANGE, ToyRovEnv, batch
+from pnn_toys import SONAR_RANGE, ToyRovEnv, batch, toy_model
 from stable_baselines3.common.logger import KVWriter, Logger
 
 from sb3_pnn import DiscreteSAC, SelectivePolicy
@@ -19,15 +19,7 @@ NEAR = th.tensor([False, True, True, False, True])
 def _model(paths, **kwargs):
     kw = dict(priors=[paths["pf_dsac"], paths["oa_dsac"]], net_arch=[16, 16])
     kw.update(kwargs)
-    return DiscreteSAC(
-        SelectivePolicy,
-        ToyRovEnv(),
-        policy_kwargs=kw,
-        learning_starts=20,
-        batch_size=16,
-        seed=0,
-        buffer_size=1000,
-    )
+    return toy_model(SelectivePolicy, kw)
 
 
 def _obs(policy):

@@ -194,6 +194,8 @@ def kwargs_by_agent(changes: tuple) -> dict[str, dict]:
 AGENT_FACTOR_CASES = [
     (("pnn_lateral_init", 0.0), "pnn", "lateral_scale_init"),
     (("pnn_critic_priors", False), "pnn", "critic_priors"),
+    (("pnn_start_as_prior", True), "pnn", "start_as_prior"),
+    (("spnn_start_as_prior", True), "spnn", "start_as_prior"),
     (("spnn_d_th", 8.0), "spnn", "d_th"),
 ]
 

@@ -90,3 +90,35 @@ def test_a_per_path_choice_reproduces_each_paths_runs_of_the_uniform_studies() -
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"].get(
         "critic_priors", True
     ) is OURS.critic_priors_on("straight")
+
+
+def test_start_as_prior_is_per_path_too_and_off_in_the_paper() -> None:
+    """``pnn_start_as_prior`` takes the same values; the paper's (random start) writes nothing,
+    ours starts PNN as its prior on the straight path only, and SPNN's factor is a plain bool."""
+    assert PAPER.pnn_start_as_prior == "neither" and OURS.pnn_start_as_prior == "straight"
+    for path in ("straight", "sine"):
+        assert "start_as_prior" not in PAPER.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
+        assert "start_as_prior" not in OURS.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]
+    assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["start_as_prior"] is True
+    assert "start_as_prior" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
+    both = PAPER.with_(**parse_setup_changes(["pnn_start_as_prior=true"]))
+    assert both.pnn_start_as_prior == "both" and both.on_path("pnn_start_as_prior", "sine")
+    assert describe_value("pnn_start_as_prior", "straight") == "on the straight path only"
+    spnn = PAPER.with_(**parse_setup_changes(["spnn_start_as_prior=true"]))
+    assert spnn.sac_kwargs(agent="spnn")["policy_kwargs"]["start_as_prior"] is True
+    with pytest.raises(ValueError, match=r"pnn_start_as_prior='curvy' is not allowed"):
+        PAPER.with_(pnn_start_as_prior="curvy")
+    with pytest.raises(ValueError, match=r"--set 'spnn_start_as_prior=straight' is not allowed"):
+        parse_setup_changes(["spnn_start_as_prior=straight"])
+
+
+def test_ours_per_path_start_reproduces_the_runs_it_was_chosen_on() -> None:
+    """The straight PNN run of today's ``ours`` is the one of the study that started PNN as its
+    prior on both paths (docs/ablation/start_as_prior), the sine run the one that started at
+    random, hash for hash: so both can be adopted, not retrained."""
+    today = pnn_specs(*STUDY_SCHEDULE)
+    everywhere = pnn_specs(*STUDY_SCHEDULE, "pnn_start_as_prior=true")
+    nowhere = pnn_specs(*STUDY_SCHEDULE, "pnn_start_as_prior=false")
+    assert today["straight"].config_hash() == everywhere["straight"].config_hash()
+    assert today["sine"].config_hash() == nowhere["sine"].config_hash()
+    assert today["straight"].config_hash() != nowhere["straight"].config_hash()
