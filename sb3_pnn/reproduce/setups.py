@@ -241,8 +241,6 @@ PATH_CHOICES: dict[str, tuple[str, ...]] = {
     "sine": ("sine",),
     "neither": (),
 }
-#: Kept under its first name (PNN's critics were the first per-path factor).
-CRITIC_PRIOR_PATHS = PATH_CHOICES
 #: Factors whose value names the planning paths they are on for.
 PER_PATH_FACTORS: tuple[str, ...] = ("pnn_critic_priors", "pnn_start_as_prior")
 
