@@ -231,8 +231,9 @@ class ProgressiveNet(nn.Module):
         if not multiplier > 0:
             raise ValueError(f"multiplier must be > 0, got {multiplier!r}")
         own = self.layers[last]
+        output_laterals = {j: self.laterals[key] for j, _, key in self._lateral_plan[last]}
         for j, prior in enumerate(self.priors):
-            lateral = self.laterals[f"{last}_{j}"] if self.sources[last][j] is not None else None
+            lateral = output_laterals.get(j)
             if lateral is None or lateral.bias is None:
                 raise ValueError(
                     f"prior {j} cannot be copied into the output layer: it needs hidden layers "

@@ -165,10 +165,6 @@ class TrainingSetup:
             raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
         return path in PATH_CHOICES[getattr(self, name)]
 
-    def critic_priors_on(self, path: str) -> bool:
-        """Whether PNN's critics read the prior's critic on planning path ``path``."""
-        return self.on_path("pnn_critic_priors", path)
-
     def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds

@@ -66,7 +66,7 @@ def test_bad_values_are_refused_by_name() -> None:
     with pytest.raises(ValueError, match="depends on the path: expected path='straight' or 'sine'"):
         PAPER.with_(pnn_critic_priors="straight").sac_kwargs(agent="pnn")
     with pytest.raises(ValueError, match=r"path='spiral' is not allowed"):
-        PAPER.critic_priors_on("spiral")
+        PAPER.on_path("pnn_critic_priors", "spiral")
 
 
 def test_path_of_env() -> None:
@@ -89,7 +89,7 @@ def test_a_per_path_choice_reproduces_each_paths_runs_of_the_uniform_studies() -
     assert per_path["sine"].config_hash() != on["sine"].config_hash()
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"].get(
         "critic_priors", True
-    ) is OURS.critic_priors_on("straight")
+    ) is OURS.on_path("pnn_critic_priors", "straight")
 
 
 def test_start_as_prior_is_per_path_too_and_off_in_the_paper() -> None:
