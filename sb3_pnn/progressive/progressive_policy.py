@@ -40,7 +40,8 @@ from sb3_pnn.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
 from sb3_pnn.progressive.gates import DistanceGate
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
-from sb3_pnn.progressive.prior_loading import PriorCheckpoint, PriorSpec, load_prior
+from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec, load_prior
+from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
 
 
 def _lateral_weights(
@@ -215,6 +216,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         layers and the new column's own output layer starts at zero
         (:meth:`.columns.ProgressiveNet.start_as_priors_`; not in the paper, which starts the
         new column at random). A PNN needs exactly one prior for it
+    :param init_from_prior: The new column starts as a copy of the first prior's column (the
+        actor's from the prior's actor, critic i's from the prior's critic i mod n; observation
+        inputs the prior does not see get zero first-layer weights): section 3.1's "the
+        parameters of the second column are usually initialized with Theta^(1) or randomly"
+        (section 3.2 then starts it at random). Needs the new column's hidden widths to be the
+        first prior's
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -241,6 +248,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         lateral_scale_init: float = 1.0,
         critic_priors: bool = True,
         start_as_prior: bool = False,
+        init_from_prior: bool = False,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         if features_extractor_class is None:
@@ -272,6 +280,10 @@ class ProgressivePolicy(DiscreteSACPolicy):
             raise ValueError(f"start_as_prior must be True or False, got {start_as_prior!r}")
         self._check_start_as_prior(start_as_prior, len(self.prior_specs))
         self.start_as_prior = start_as_prior
+        if not isinstance(init_from_prior, bool):
+            raise ValueError(f"init_from_prior must be True or False, got {init_from_prior!r}")
+        self.init_from_prior = init_from_prior
+        self._first_prior_columns = input_columns(self.feeds[0].keys, new_obs)
         self._user_kwargs = dict(
             net_arch=net_arch,
             activation_fn=activation_fn,
@@ -325,6 +337,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             lateral_scale_init=self.lateral_scale_init,
             critic_priors=self.critic_priors,
             start_as_prior=self.start_as_prior,
+            init_from_prior=self.init_from_prior,
         )
 
     # --- networks -------------------------------------------------------------------------
@@ -344,8 +357,22 @@ class ProgressivePolicy(DiscreteSACPolicy):
             cols.append(col)
         return cols
 
+    def _init_layers(self, role: str, index: int = 0) -> Layers | None:
+        """The first prior's layers the new column starts from (``init_from_prior``), or None:
+        off, or the policy is being rebuilt from a saved model (whose state dict then loads)."""
+        if not self.init_from_prior or self._checkpoints is None:
+            return None
+        ckpt = self._checkpoints[0]
+        if role == "actor":
+            return ckpt.actor_layers
+        return ckpt.critic_layers[index % len(ckpt.critic_layers)]
+
     def _net(
-        self, features_dim: int, hidden: list[int], columns: list[FrozenColumn]
+        self,
+        features_dim: int,
+        hidden: list[int],
+        columns: list[FrozenColumn],
+        init_layers: Layers | None = None,
     ) -> ProgressiveNet:
         start = self.start_as_prior and len(columns) > 0
         net = ProgressiveNet(
@@ -358,6 +385,15 @@ class ProgressivePolicy(DiscreteSACPolicy):
             lateral_scale_init=self.lateral_scale_init,
             output_lateral_bias=start,
         )
+        if init_layers is not None:
+            prior_hidden = [int(w.shape[0]) for w, _ in init_layers[:-1]]
+            if prior_hidden != list(hidden):
+                raise ValueError(
+                    f"init_from_prior=True copies the first prior's column, whose hidden widths "
+                    f"are {prior_hidden}, into a new column of hidden widths {list(hidden)}: "
+                    "pass net_arch with the prior's widths"
+                )
+            copy_layers(list(net.layers), init_layers, self._first_prior_columns)
         if start:  # (a saved model's state dict then overwrites these weights)
             net.start_as_priors_(multiplier=self._mixing()[0])
         return net
@@ -373,7 +409,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
             self.action_space,
             kwargs["features_extractor"],
             fdim,
-            self._net(fdim, list(kwargs["net_arch"]), self._columns("actor")),
+            self._net(
+                fdim,
+                list(kwargs["net_arch"]),
+                self._columns("actor"),
+                self._init_layers("actor"),
+            ),
             self.feeds,
             gate=self._make_gate(fdim),
             sigma=sigma,
@@ -399,7 +440,10 @@ class ProgressivePolicy(DiscreteSACPolicy):
             self.action_space,
             kwargs["features_extractor"],
             fdim,
-            [self._net(fdim, hidden, columns(i)) for i in range(self.n_critics)],
+            [
+                self._net(fdim, hidden, columns(i), self._init_layers("critic", i))
+                for i in range(self.n_critics)
+            ],
             feeds,
             [self._make_gate(fdim) for _ in range(self.n_critics)],
             sigma=sigma,

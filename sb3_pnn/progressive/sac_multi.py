@@ -22,31 +22,9 @@ from gymnasium import spaces
 from stable_baselines3.common.type_aliases import GymEnv
 
 from sb3_pnn.dsac import DiscreteSAC
-from sb3_pnn.progressive.obs_spec import ObsSpec, match_prior_obs, obs_spec_from_space
-from sb3_pnn.progressive.prior_loading import ACTIVATIONS, Layers, load_prior
-
-
-def input_columns(prior_keys: tuple[str | None, ...], new: ObsSpec) -> list[int]:
-    """Indices in the new flattened observation of each of the prior's input features."""
-    offsets: dict[str | None, range] = {}
-    start = 0
-    for part in new.parts:
-        offsets[part.key] = range(start, start + part.size)
-        start += part.size
-    return [i for key in prior_keys for i in offsets[key]]
-
-
-def _copy_sequential(linears: list[th.nn.Linear], layers: Layers, columns: list[int]) -> None:
-    if len(linears) != len(layers):
-        raise ValueError(f"expected {len(layers)} Linear layers, found {len(linears)}")
-    with th.no_grad():
-        for i, (lin, (w, b)) in enumerate(zip(linears, layers, strict=True)):
-            if i == 0:
-                lin.weight.zero_()
-                lin.weight[:, columns] = w.to(lin.weight)
-            else:
-                lin.weight.copy_(w)
-            lin.bias.copy_(b)
+from sb3_pnn.progressive.obs_spec import match_prior_obs, obs_spec_from_space
+from sb3_pnn.progressive.prior_loading import ACTIVATIONS, load_prior
+from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
 
 
 def make_sac_multi(
@@ -92,13 +70,13 @@ def make_sac_multi(
     feed = match_prior_obs(spec.obs, new, f"prior {os.fspath(prior_path)!r}")
     columns = input_columns(feed.keys, new)
     actor = model.policy.actor
-    _copy_sequential(
+    copy_layers(
         [m for m in actor.latent_pi if isinstance(m, th.nn.Linear)] + [actor.action_logits],
         prior.actor_layers,
         columns,
     )
     for i, q_net in enumerate(model.policy.critic.q_networks):
         layers = prior.critic_layers[i % len(prior.critic_layers)]
-        _copy_sequential([m for m in q_net if isinstance(m, th.nn.Linear)], layers, columns)
+        copy_layers([m for m in q_net if isinstance(m, th.nn.Linear)], layers, columns)
     model.policy.critic_target.load_state_dict(model.policy.critic.state_dict())
     return model

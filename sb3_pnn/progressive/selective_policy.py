@@ -108,6 +108,7 @@ class SelectivePolicy(ProgressivePolicy):
         gate_hidden: int = 32,
         critic_priors: bool = True,
         start_as_prior: bool = False,
+        init_from_prior: bool = False,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -149,6 +150,7 @@ class SelectivePolicy(ProgressivePolicy):
             lateral_scale_init,
             critic_priors,
             start_as_prior,
+            init_from_prior,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

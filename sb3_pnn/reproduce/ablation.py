@@ -58,12 +58,19 @@ NOT_ABLATED: dict[str, str] = {
     "5-seed study's ten SPNN runs with it (docs/ablation/spnn_d_th)",
     "pnn_lateral_init": _ONLY_PNN
     + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
+    "pnn_lateral_init_sine": _ONLY_PNN
+    + "with bench/learning_trace.py --agent pnn on PlanningSine, seeds 0-9 "
+    "(docs/ablation/README.md)",
     "pnn_critic_priors": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it off (docs/ablation/pnn_critic_priors)",
     "pnn_start_as_prior": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/start_as_prior)",
     "spnn_start_as_prior": "measured beside pnn_start_as_prior by retraining the 5-seed "
     "study's SPNN runs with it on (docs/ablation/start_as_prior)",
+    "pnn_init_from_prior": _ONLY_PNN
+    + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/init_from_prior)",
+    "spnn_init_from_prior": "measured beside pnn_init_from_prior by retraining the 5-seed "
+    "study's SPNN runs with it on (docs/ablation/init_from_prior)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

@@ -35,7 +35,8 @@ Factors:
 * ``pnn_lateral_init``: PNN's lateral connections (eq. 13) are scaled by a learned scalar per
   lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
   0 starts the new column as a network without priors (SAC-Single) that learns how much of the
-  prior's features to take. Only PNN runs read it.
+  prior's features to take. Only PNN runs read it. ``pnn_lateral_init_sine`` gives the sine
+  path a value of its own (``None``: ``pnn_lateral_init`` on both paths).
 * ``pnn_critic_priors``: on which planning paths PNN's critics (Q-networks) are progressive
   columns that read the frozen prior's critic too, as Algorithm 1 transfers Q_theta along with
   pi_phi (written for SPNN): ``"both"``, ``"straight"``, ``"sine"`` or ``"neither"`` (``--set``
@@ -51,6 +52,13 @@ Factors:
   SAC-Multi, the paper's other way to reuse the prior, starts from its weights too. Only PNN
   runs read it. ``spnn_start_as_prior`` (a bool) does the same for the SPNN, whose output then
   starts as the gate-selected prior's.
+* ``pnn_init_from_prior``: on which planning paths (values as ``pnn_critic_priors``) the PNN's
+  new column starts as a copy of the prior's column, actor from actor and critics from critics
+  (``init_from_prior=True``): section 3.1's "the parameters of the second column are usually
+  initialized with Theta^(1) or randomly"; section 3.2 and Rusu et al. (2016) start it at random
+  (off). With the laterals' scale at 0 the PNN then starts as SAC-Multi does, keeping the frozen
+  prior beside it. ``spnn_init_from_prior`` (values as ``pnn_critic_priors``) starts the SPNN's
+  new column as a copy of its first, the path-following, prior.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it.
@@ -113,9 +121,12 @@ class TrainingSetup:
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
+    pnn_lateral_init_sine: float | None = None
     pnn_critic_priors: str = "both"
     pnn_start_as_prior: str = "neither"
     spnn_start_as_prior: bool = False
+    pnn_init_from_prior: str = "neither"
+    spnn_init_from_prior: str = "neither"
     spnn_d_th: float = PAPER_D_TH
 
     def __post_init__(self) -> None:
@@ -140,6 +151,16 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected one of "
                     f"{list(PATH_CHOICES)} (or true / false)"
                 )
+        sine_init = self.pnn_lateral_init_sine
+        if sine_init is not None and (
+            isinstance(sine_init, bool)
+            or not isinstance(sine_init, (int, float))
+            or not math.isfinite(sine_init)
+        ):
+            raise ValueError(
+                f"pnn_lateral_init_sine={sine_init!r} is not allowed: expected a number, or None "
+                "for pnn_lateral_init's value"
+            )
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
@@ -194,6 +215,16 @@ class TrainingSetup:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
         agent factor; those in :data:`PER_PATH_FACTORS` are per path, the others the same on
         both paths."""
+        if name == "pnn_lateral_init_sine":  # pnn_lateral_init's value on the sine path
+            name = "pnn_lateral_init"
+        if name == "pnn_lateral_init" and self.pnn_lateral_init_sine is not None:
+            if not path:
+                raise ValueError(
+                    f"pnn_lateral_init_sine={self.pnn_lateral_init_sine!r} depends on the path: "
+                    "expected path='straight' or 'sine'"
+                )
+            if path == "sine":
+                return float(self.pnn_lateral_init_sine), _FIELD_DEFAULTS[name]
         if name not in PER_PATH_FACTORS:
             default = _FIELD_DEFAULTS[name]
             return type(default)(getattr(self, name)), default
@@ -229,7 +260,7 @@ class TrainingSetup:
         return replace(self, **changes)
 
 
-#: The values of a per-path factor (``pnn_critic_priors``, ``pnn_start_as_prior``): value -> the
+#: The values of a per-path factor (``pnn_critic_priors``, ...): value -> the
 #: planning paths on which it is on.
 PATH_CHOICES: dict[str, tuple[str, ...]] = {
     "both": ("straight", "sine"),
@@ -238,16 +269,24 @@ PATH_CHOICES: dict[str, tuple[str, ...]] = {
     "neither": (),
 }
 #: Factors whose value names the planning paths they are on for.
-PER_PATH_FACTORS: tuple[str, ...] = ("pnn_critic_priors", "pnn_start_as_prior")
+PER_PATH_FACTORS: tuple[str, ...] = (
+    "pnn_critic_priors",
+    "pnn_start_as_prior",
+    "pnn_init_from_prior",
+    "spnn_init_from_prior",
+)
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
 #: written into that agent's ``policy_kwargs`` only when it departs from its default (the
 #: paper's), so runs made before the factor existed keep their hash.
 AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "pnn_lateral_init": ("pnn", "lateral_scale_init"),
+    "pnn_lateral_init_sine": ("pnn", "lateral_scale_init"),
     "pnn_critic_priors": ("pnn", "critic_priors"),
     "pnn_start_as_prior": ("pnn", "start_as_prior"),
     "spnn_start_as_prior": ("spnn", "start_as_prior"),
+    "pnn_init_from_prior": ("pnn", "init_from_prior"),
+    "spnn_init_from_prior": ("spnn", "init_from_prior"),
     "spnn_d_th": ("spnn", "d_th"),
 }
 _FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
@@ -268,6 +307,7 @@ OURS = TrainingSetup(
     net_arch=(64, 64),
     keep_best=True,
     pnn_lateral_init=0.0,
+    pnn_lateral_init_sine=1.0,
     pnn_critic_priors="straight",
     pnn_start_as_prior="straight",
 )
@@ -288,9 +328,12 @@ FACTOR_LABELS: dict[str, str] = {
     "target_entropy_ratio": "target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
     "pnn_lateral_init": "PNN lateral scale at the start",
+    "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
     "pnn_critic_priors": "PNN critics read the prior's critic",
     "pnn_start_as_prior": "PNN starts as its prior",
     "spnn_start_as_prior": "SPNN starts as its selected prior",
+    "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
+    "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
     "spnn_d_th": "SPNN switch distance d_th (m)",
 }
 
@@ -307,6 +350,8 @@ def describe_value(name: str, value: Any) -> str:
     """A factor value as the report prints it."""
     if name == "prior_updates" and not value:
         return "as the update schedule"
+    if name == "pnn_lateral_init_sine" and value is None:
+        return "as on the straight path"
     if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
         if unit == "episode":
@@ -354,14 +399,19 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
         elif isinstance(default, float):
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
             value = float(value) if ok else value
+        elif default is None:  # a number, or null for "as the factor it refines"
+            ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
+            value = float(value) if ok and value is not None else value
         elif name in PER_PATH_FACTORS:  # a path name, or true / false for both / neither
             ok = isinstance(value, (str, bool))
         else:
             ok = isinstance(value, str)
         if not ok:
+            example = json.dumps(list(default) if isinstance(default, tuple) else default)
+            if default is None:
+                example = "1.0 (a number, or null)"
             raise ValueError(
-                f"--set {item!r} is not allowed: expected a value like {name}="
-                f"{json.dumps(list(default) if isinstance(default, tuple) else default)}"
+                f"--set {item!r} is not allowed: expected a value like {name}={example}"
             )
         changes[name] = value
     return changes

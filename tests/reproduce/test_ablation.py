@@ -197,6 +197,8 @@ AGENT_FACTOR_CASES = [
     (("pnn_start_as_prior", True), "pnn", "start_as_prior"),
     (("spnn_start_as_prior", True), "spnn", "start_as_prior"),
     (("spnn_d_th", 8.0), "spnn", "d_th"),
+    (("pnn_init_from_prior", True), "pnn", "init_from_prior"),
+    (("spnn_init_from_prior", True), "spnn", "init_from_prior"),
 ]
 
 
@@ -217,8 +219,12 @@ def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str
 
 
 def test_agent_factor_values_checked() -> None:
-    assert {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES} == AGENT_FACTORS
-    assert OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 0.0
+    # pnn_lateral_init_sine refines pnn_lateral_init (tests/reproduce/test_critic_priors_per_path)
+    cases = {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES}
+    assert {**cases, "pnn_lateral_init_sine": ("pnn", "lateral_scale_init")} == AGENT_FACTORS
+    assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["lateral_scale_init"] == 0
+    # on the sine path ours is eq. 13's full scale, the policy's default: nothing written
+    assert "lateral_scale_init" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
     # both set-ups switch at eq. 15's 12.5 m (the policy's default), so no d_th is written
     assert "d_th" not in PAPER.sac_kwargs(agent="spnn")["policy_kwargs"]
     assert "d_th" not in OURS.sac_kwargs(agent="spnn")["policy_kwargs"]

@@ -122,3 +122,52 @@ def test_ours_per_path_start_reproduces_the_runs_it_was_chosen_on() -> None:
     assert today["straight"].config_hash() == everywhere["straight"].config_hash()
     assert today["sine"].config_hash() == nowhere["sine"].config_hash()
     assert today["straight"].config_hash() != nowhere["straight"].config_hash()
+
+
+def test_init_from_prior_is_per_path_for_both_progressive_agents() -> None:
+    """``pnn_init_from_prior`` / ``spnn_init_from_prior`` take the per-path values; off (the
+    paper's section 3.2) writes nothing into the policy keywords, so earlier runs keep their
+    hashes."""
+    assert PAPER.pnn_init_from_prior == "neither" and PAPER.spnn_init_from_prior == "neither"
+    for agent in ("pnn", "spnn"):
+        for path in ("straight", "sine"):
+            assert (
+                "init_from_prior" not in PAPER.sac_kwargs(agent=agent, path=path)["policy_kwargs"]
+            )
+    setup = PAPER.with_(
+        **parse_setup_changes(["pnn_init_from_prior=sine", "spnn_init_from_prior=true"])
+    )
+    assert setup.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["init_from_prior"] is True
+    assert "init_from_prior" not in setup.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]
+    for path in ("straight", "sine"):
+        assert setup.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]["init_from_prior"]
+    assert (
+        "init_from_prior" not in setup.sac_kwargs(agent="sac_single", path="sine")["policy_kwargs"]
+    )
+    with pytest.raises(ValueError, match=r"spnn_init_from_prior='wavy' is not allowed"):
+        PAPER.with_(spnn_init_from_prior="wavy")
+
+
+def test_the_sine_path_can_have_a_lateral_scale_of_its_own() -> None:
+    """``pnn_lateral_init_sine`` refines ``pnn_lateral_init`` on the sine path only; unset, the
+    runs keep their hashes; bad values are refused by name."""
+    changes = parse_setup_changes(["pnn_lateral_init=0", "pnn_lateral_init_sine=1"])
+    setup = PAPER.with_(**changes)
+    assert (
+        setup.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["lateral_scale_init"] == 0
+    )
+    # 1.0 is the policy's (and the paper's) default: not written, as for pnn_lateral_init=1
+    assert "lateral_scale_init" not in setup.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
+    unset = PAPER.with_(pnn_lateral_init=0.0)
+    assert unset.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 0
+    assert (
+        pnn_specs(*STUDY_SCHEDULE)["straight"].config_hash()
+        == pnn_specs(*STUDY_SCHEDULE, "pnn_lateral_init_sine=0.5")["straight"].config_hash()
+    )
+    with pytest.raises(ValueError, match="depends on the path"):
+        setup.sac_kwargs(agent="pnn")
+    with pytest.raises(ValueError, match=r"pnn_lateral_init_sine=true' is not allowed.*a number"):
+        parse_setup_changes(["pnn_lateral_init_sine=true"])
+    with pytest.raises(ValueError, match=r"pnn_lateral_init_sine=inf is not allowed"):
+        PAPER.with_(pnn_lateral_init_sine=float("inf"))
+    assert describe_value("pnn_lateral_init_sine", None) == "as on the straight path"

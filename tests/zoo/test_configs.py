@@ -74,6 +74,11 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
             wanted = sac["policy_kwargs"].get("critic_priors", True)
             assert entry["policy_kwargs"].get("critic_priors", True) == wanted, (setup, env_id)
             assert "lateral_scale_init" not in entry["policy_kwargs"] or algo == "pnn"
+            # and the lateral scale at the start, per path (1.0, eq. 13's, is written only
+            # where it departs from the policy's default in the set-up, but may be in the file)
+            scale = sac["policy_kwargs"].get("lateral_scale_init", 1.0)
+            if algo == "pnn":
+                assert entry["policy_kwargs"].get("lateral_scale_init", 1.0) == scale, env_id
         assert entry["n_timesteps"] > 0
 
 
