@@ -70,7 +70,7 @@ def test_the_copy_learns_the_prior_stays_frozen_and_save_load_keeps_it(priors, t
     assert th.equal(_outputs(loaded.policy, obs)[0], _outputs(model.policy, obs)[0])
 
 
-def test_spnn_copies_its_first_the_path_following_prior(priors):
+def test_spnn_copies_its_path_following_prior(priors):
     model = toy_model(
         SelectivePolicy,
         dict(
