@@ -283,7 +283,6 @@ class ProgressivePolicy(DiscreteSACPolicy):
         if not isinstance(init_from_prior, bool):
             raise ValueError(f"init_from_prior must be True or False, got {init_from_prior!r}")
         self.init_from_prior = init_from_prior
-        self._first_prior_columns = input_columns(self.feeds[0].keys, new_obs)
         self._user_kwargs = dict(
             net_arch=net_arch,
             activation_fn=activation_fn,
@@ -393,7 +392,10 @@ class ProgressivePolicy(DiscreteSACPolicy):
                     f"are {prior_hidden}, into a new column of hidden widths {list(hidden)}: "
                     "pass net_arch with the prior's widths"
                 )
-            copy_layers(list(net.layers), init_layers, self._first_prior_columns)
+            columns_seen = input_columns(
+                self.feeds[0].keys, obs_spec_from_space(self.observation_space)
+            )
+            copy_layers(list(net.layers), init_layers, columns_seen)
         if start:  # (a saved model's state dict then overwrites these weights)
             net.start_as_priors_(multiplier=self._mixing()[0])
         return net

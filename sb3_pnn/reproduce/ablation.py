@@ -59,7 +59,7 @@ NOT_ABLATED: dict[str, str] = {
     "pnn_lateral_init": _ONLY_PNN
     + "with bench/learning_trace.py --agent pnn (docs/ablation/README.md)",
     "pnn_lateral_init_sine": _ONLY_PNN
-    + "with bench/learning_trace.py --agent pnn on PlanningSine, seeds 0-9 "
+    + "with bench/learning_trace.py --agent pnn on PlanningSine, seeds 0-14 "
     "(docs/ablation/README.md)",
     "pnn_critic_priors": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it off (docs/ablation/pnn_critic_priors)",

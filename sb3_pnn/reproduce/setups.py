@@ -214,17 +214,16 @@ class TrainingSetup:
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
         agent factor; those in :data:`PER_PATH_FACTORS` are per path, the others the same on
-        both paths."""
-        if name == "pnn_lateral_init_sine":  # pnn_lateral_init's value on the sine path
-            name = "pnn_lateral_init"
+        both paths, except ``pnn_lateral_init``, which ``pnn_lateral_init_sine`` (when set)
+        replaces on the sine path."""
         if name == "pnn_lateral_init" and self.pnn_lateral_init_sine is not None:
             if not path:
                 raise ValueError(
                     f"pnn_lateral_init_sine={self.pnn_lateral_init_sine!r} depends on the path: "
                     "expected path='straight' or 'sine'"
                 )
-            if path == "sine":
-                return float(self.pnn_lateral_init_sine), _FIELD_DEFAULTS[name]
+            value = self.pnn_lateral_init_sine if path == "sine" else self.pnn_lateral_init
+            return float(value), _FIELD_DEFAULTS[name]
         if name not in PER_PATH_FACTORS:
             default = _FIELD_DEFAULTS[name]
             return type(default)(getattr(self, name)), default
@@ -278,10 +277,10 @@ PER_PATH_FACTORS: tuple[str, ...] = (
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
 #: written into that agent's ``policy_kwargs`` only when it departs from its default (the
-#: paper's), so runs made before the factor existed keep their hash.
+#: paper's), so runs made before the factor existed keep their hash. (``pnn_lateral_init_sine``
+#: reaches the PNN through ``pnn_lateral_init``'s entry, :meth:`TrainingSetup._policy_value`.)
 AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "pnn_lateral_init": ("pnn", "lateral_scale_init"),
-    "pnn_lateral_init_sine": ("pnn", "lateral_scale_init"),
     "pnn_critic_priors": ("pnn", "critic_priors"),
     "pnn_start_as_prior": ("pnn", "start_as_prior"),
     "spnn_start_as_prior": ("spnn", "start_as_prior"),

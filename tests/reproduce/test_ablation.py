@@ -219,9 +219,8 @@ def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str
 
 
 def test_agent_factor_values_checked() -> None:
-    # pnn_lateral_init_sine refines pnn_lateral_init (tests/reproduce/test_critic_priors_per_path)
-    cases = {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES}
-    assert {**cases, "pnn_lateral_init_sine": ("pnn", "lateral_scale_init")} == AGENT_FACTORS
+    # (pnn_lateral_init_sine reaches the PNN through pnn_lateral_init: test_critic_priors_per_path)
+    assert {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES} == AGENT_FACTORS
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["lateral_scale_init"] == 0
     # on the sine path ours is eq. 13's full scale, the policy's default: nothing written
     assert "lateral_scale_init" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
