@@ -46,6 +46,10 @@ from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
 PRIOR_NAMES = ("path_following", "obstacle_avoidance")
 #: The paper's switch distance d_th (m), "set to be 12.5 m after a number of experimental trials".
 PAPER_D_TH = 12.5
+#: The paper's weights of the selected prior's input (sigma) and of the new column's own input
+#: (tau, our ``own_weight``) in eq. 15: "both set to be 0.5".
+PAPER_SIGMA = 0.5
+PAPER_OWN_WEIGHT = 0.5
 
 
 def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
@@ -98,8 +102,8 @@ class SelectivePolicy(ProgressivePolicy):
         prior_specs: Sequence[dict[str, Any] | PriorSpec] | None = None,
         learn_lateral_scale: bool = False,
         lateral_scale_init: float = 1.0,
-        sigma: float = 0.5,
-        own_weight: float = 0.5,
+        sigma: float = PAPER_SIGMA,
+        own_weight: float = PAPER_OWN_WEIGHT,
         d_th: float = PAPER_D_TH,
         sonar_range: float = 25.0,
         sonar_key: str = "sonar",

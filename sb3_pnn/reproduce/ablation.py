@@ -71,6 +71,10 @@ NOT_ABLATED: dict[str, str] = {
     + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/init_from_prior)",
     "spnn_init_from_prior": "measured beside pnn_init_from_prior by retraining the 5-seed "
     "study's SPNN runs with it on (docs/ablation/init_from_prior)",
+    "spnn_sigma": "the paper's and ours are equal (0.5); sigma = tau = 1 was measured by "
+    "retraining the 5-seed study's ten SPNN runs with it (docs/ablation/spnn_weights)",
+    "spnn_own_weight": "the paper's and ours are equal (0.5); measured with spnn_sigma "
+    "(docs/ablation/spnn_weights)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

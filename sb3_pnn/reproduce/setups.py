@@ -62,6 +62,10 @@ Factors:
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it.
+* ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
+  input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
+  With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
+  only. Only SPNN runs read them.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.validation.VALIDATION_SEED`, apart from the evaluation's),
@@ -78,7 +82,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
-from sb3_pnn.progressive.selective_policy import PAPER_D_TH
+from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
 
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
 #: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
@@ -128,6 +132,8 @@ class TrainingSetup:
     pnn_init_from_prior: str = "neither"
     spnn_init_from_prior: str = "neither"
     spnn_d_th: float = PAPER_D_TH
+    spnn_sigma: float = PAPER_SIGMA
+    spnn_own_weight: float = PAPER_OWN_WEIGHT
 
     def __post_init__(self) -> None:
         parse_updates(self.updates)
@@ -142,6 +148,15 @@ class TrainingSetup:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
             )
+        for name in ("spnn_sigma", "spnn_own_weight"):
+            value = getattr(self, name)
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or value < 0
+            ):
+                raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
         for name in PER_PATH_FACTORS:
             value = getattr(self, name)
             if isinstance(value, bool):  # --set pnn_critic_priors=true / false
@@ -190,8 +205,8 @@ class TrainingSetup:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
         PNN's ``lateral_scale_init`` and, on planning path ``path`` (``"straight"`` or
-        ``"sine"``), ``critic_priors`` and ``start_as_prior``; ``agent="spnn"`` SPNN's ``d_th``
-        and ``start_as_prior``."""
+        ``"sine"``), ``critic_priors`` and ``start_as_prior``; ``agent="spnn"`` SPNN's ``d_th``,
+        ``sigma``, ``own_weight`` and ``start_as_prior``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -287,6 +302,8 @@ AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "pnn_init_from_prior": ("pnn", "init_from_prior"),
     "spnn_init_from_prior": ("spnn", "init_from_prior"),
     "spnn_d_th": ("spnn", "d_th"),
+    "spnn_sigma": ("spnn", "sigma"),
+    "spnn_own_weight": ("spnn", "own_weight"),
 }
 _FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
 
@@ -334,6 +351,8 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
     "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
     "spnn_d_th": "SPNN switch distance d_th (m)",
+    "spnn_sigma": "SPNN weight sigma of the selected prior's input",
+    "spnn_own_weight": "SPNN weight tau of the new column's own input",
 }
 
 

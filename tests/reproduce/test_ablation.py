@@ -199,6 +199,8 @@ AGENT_FACTOR_CASES = [
     (("spnn_d_th", 8.0), "spnn", "d_th"),
     (("pnn_init_from_prior", True), "pnn", "init_from_prior"),
     (("spnn_init_from_prior", True), "spnn", "init_from_prior"),
+    (("spnn_sigma", 1.0), "spnn", "sigma"),
+    (("spnn_own_weight", 1.0), "spnn", "own_weight"),
 ]
 
 
@@ -230,3 +232,11 @@ def test_agent_factor_values_checked() -> None:
     assert OURS.with_(spnn_d_th=8.0).sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 8.0
     with pytest.raises(ValueError, match=r"spnn_d_th=0\.0 is not allowed: expected a distance > 0"):
         OURS.with_(spnn_d_th=0.0)
+
+
+@pytest.mark.parametrize("name", ["spnn_sigma", "spnn_own_weight"])
+@pytest.mark.parametrize("bad", [-0.5, float("inf"), float("nan"), True, "half"])
+def test_spnn_mixing_weights_checked(name: str, bad: object) -> None:
+    """Eq. 15's weights are finite numbers >= 0; anything else is refused by name."""
+    with pytest.raises(ValueError, match=rf"{name}=.* is not allowed: expected a finite weight"):
+        OURS.with_(**{name: bad})

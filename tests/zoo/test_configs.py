@@ -102,10 +102,11 @@ def test_priors_match_the_task(algo: str, setup: str) -> None:
         if algo == "spnn":
             assert [p.env for p in priors[1:]] == ["rov_envs/ObstacleAvoidance-v0"]
             pk = entry["policy_kwargs"]
+            training = SETUPS[setup]  # the set-up's eq. 15 switch and weights
             assert (pk["d_th"], pk["sigma"], pk["own_weight"], pk["gate"]) == (
-                12.5,
-                0.5,
-                0.5,
+                training.spnn_d_th,
+                training.spnn_sigma,
+                training.spnn_own_weight,
                 "hard",
             )
         else:
