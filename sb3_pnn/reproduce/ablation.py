@@ -66,14 +66,16 @@ NOT_ABLATED: dict[str, str] = {
     "pnn_start_as_prior": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/start_as_prior)",
     "spnn_start_as_prior": "measured beside pnn_start_as_prior by retraining the 5-seed "
-    "study's SPNN runs with it on (docs/ablation/start_as_prior)",
+    "study's SPNN runs with it on (docs/ablation/start_as_prior), then, on in ours, with "
+    "spnn_sigma = spnn_own_weight = 1 (docs/ablation/spnn_weights)",
     "pnn_init_from_prior": _ONLY_PNN
     + "by retraining the 5-seed study's PNN runs with it on (docs/ablation/init_from_prior)",
     "spnn_init_from_prior": "measured beside pnn_init_from_prior by retraining the 5-seed "
     "study's SPNN runs with it on (docs/ablation/init_from_prior)",
-    "spnn_sigma": "the paper's and ours are equal (0.5); sigma = tau = 1 was measured by "
-    "retraining the 5-seed study's ten SPNN runs with it (docs/ablation/spnn_weights)",
-    "spnn_own_weight": "the paper's and ours are equal (0.5); measured with spnn_sigma "
+    "spnn_sigma": "ours 1 (the paper's 0.5), chosen with spnn_own_weight and "
+    "spnn_start_as_prior by retraining the 5-seed study's ten SPNN runs and checked on fresh "
+    "seeds (docs/ablation/spnn_weights, docs/ablation/README.md)",
+    "spnn_own_weight": "ours 1 (the paper's 0.5); measured with spnn_sigma "
     "(docs/ablation/spnn_weights)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.

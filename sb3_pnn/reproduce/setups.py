@@ -326,6 +326,9 @@ OURS = TrainingSetup(
     pnn_lateral_init_sine=1.0,
     pnn_critic_priors="straight",
     pnn_start_as_prior="straight",
+    spnn_start_as_prior=True,
+    spnn_sigma=1.0,
+    spnn_own_weight=1.0,
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}

@@ -98,7 +98,9 @@ def test_start_as_prior_is_per_path_too_and_off_in_the_paper() -> None:
     assert PAPER.pnn_start_as_prior == "neither" and OURS.pnn_start_as_prior == "straight"
     for path in ("straight", "sine"):
         assert "start_as_prior" not in PAPER.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
-        assert "start_as_prior" not in OURS.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]
+        assert "start_as_prior" not in PAPER.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]
+        # ours starts SPNN as its selected prior on both paths (with eq. 15's weights at 1)
+        assert OURS.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]["start_as_prior"] is True
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["start_as_prior"] is True
     assert "start_as_prior" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
     both = PAPER.with_(**parse_setup_changes(["pnn_start_as_prior=true"]))
