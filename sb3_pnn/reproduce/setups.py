@@ -109,6 +109,11 @@ def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
     return (n, "step"), 1
 
 
+def _finite_number(value: Any) -> bool:
+    """A finite int or float (``--set`` may hand a factor a bool or a string)."""
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
+
+
 @dataclass(frozen=True)
 class TrainingSetup:
     """One value per factor (see the module docstring)."""
@@ -150,12 +155,7 @@ class TrainingSetup:
             )
         for name in ("spnn_sigma", "spnn_own_weight"):
             value = getattr(self, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or value < 0
-            ):
+            if not _finite_number(value) or value < 0:
                 raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
         for name in PER_PATH_FACTORS:
             value = getattr(self, name)
@@ -167,11 +167,7 @@ class TrainingSetup:
                     f"{list(PATH_CHOICES)} (or true / false)"
                 )
         sine_init = self.pnn_lateral_init_sine
-        if sine_init is not None and (
-            isinstance(sine_init, bool)
-            or not isinstance(sine_init, (int, float))
-            or not math.isfinite(sine_init)
-        ):
+        if sine_init is not None and not _finite_number(sine_init):
             raise ValueError(
                 f"pnn_lateral_init_sine={sine_init!r} is not allowed: expected a number, or None "
                 "for pnn_lateral_init's value"

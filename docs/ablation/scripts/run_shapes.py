@@ -18,6 +18,8 @@ import json
 import re
 from pathlib import Path
 
+from compare_studies import evaluation  # this folder's script: the study runs' eval.json
+
 HIGH = 90  # a check at this success rate (%) or more counts as "learned"
 
 
@@ -25,9 +27,8 @@ def from_study(study: Path, agent: str, path: str, seed: int) -> tuple[list[int]
     """(validation checks in %, evaluation on the original task in %) of one study run."""
     run = study / "runs" / f"{agent}-{path}-s{seed}"
     history = json.loads((run / "validation.json").read_text())["history"]
-    manifest = json.loads((run / "manifest.json").read_text())
     checks = [round(100 * h["success_rate"]) for h in history]
-    return checks, round(100 * manifest["success_rates"]["original"])
+    return checks, round(100 * evaluation(run)["original"])
 
 
 def from_log(log: Path) -> tuple[list[int], int]:
