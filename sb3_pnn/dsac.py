@@ -328,9 +328,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
             optimizers += [self.ent_coef_optimizer]
         self._update_learning_rate(optimizers)
 
-        # Polyak-averaged parameters, listed once per call
-        critic_params = list(self.critic.parameters())
-        target_params = list(self.critic_target.parameters())
+        critic_params, target_params = self._polyak_params()
         # Detached tensors, turned into floats once after the loop (no sync per step)
         ent_coef_losses, ent_coefs, entropies = [], [], []
         actor_losses, critic_losses = [], []
@@ -404,6 +402,18 @@ class DiscreteSAC(OffPolicyAlgorithm):
         if callable(extra_logs):
             for name, value in extra_logs().items():
                 self.logger.record(f"train/{name}", value)
+
+    def _polyak_params(self) -> tuple[list[th.Tensor], list[th.Tensor]]:
+        """The critic's and the target's parameters, in the same order, for the Polyak update:
+        listed once per critic / target pair (train() is called every few steps, and walking
+        the modules for them cost as much as a small update's arithmetic)."""
+        cached = self.__dict__.get("_polyak_cache")
+        if cached is None or cached[0] is not self.critic or cached[1] is not self.critic_target:
+            params = list(self.critic.parameters())
+            target_params = list(self.critic_target.parameters())
+            cached = (self.critic, self.critic_target, params, target_params)
+            self.__dict__["_polyak_cache"] = cached
+        return cached[2], cached[3]
 
     def _polyak_update(self, params: list[th.Tensor], target_params: list[th.Tensor]) -> None:
         """
@@ -592,6 +602,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
             "critic_target",
             "batch_norm_stats",
             "batch_norm_stats_target",
+            "_polyak_cache",
         ]
 
     def _get_torch_save_params(self) -> tuple[list[str], list[str]]:

@@ -335,30 +335,32 @@ class DiscreteSACPolicy(BasePolicy):
         Train/eval mode of actor and critic (the target always stays in eval mode).
 
         SB3 calls this before every ``predict``, i.e. every environment step, and DiscreteSAC
-        before every ``train``; walking all submodules with ``nn.Module.train`` each time was a
-        fifth of the cost of a CartPole step. The last switch leaves a flat list of the actor's
-        and critic's modules with the flag each was left with (a frozen prior column stays in
-        eval mode whatever the mode), and a repeated switch to the same mode only compares those
-        flags; a module whose flag was changed by hand since then makes it switch again.
+        before every ``train``, so with one update every few steps the mode flips twice per
+        update; walking all submodules with ``nn.Module.train`` each time was a tenth of an SPNN
+        run. The first switch to a mode walks them as SB3 does and keeps the flag it left on
+        every module of the actor and critic (a frozen prior column stays in eval mode whatever
+        the mode); later switches to that mode set those flags again from the flat list, which
+        is what the walk would do, also to a module whose flag was changed by hand since.
         """
-        # (mode, actor, critic, [(module, flag)]) of the last switch; kept in __dict__ directly
-        # so that it is a plain attribute, not a registered submodule or saved state
-        last = self.__dict__.get("_last_mode_switch")
-        if (
-            last is not None
-            and last[0] == mode == self.training
-            and last[1] is self.actor
-            and last[2] is self.critic
-            and all(m.training == flag for m, flag in last[3])
-        ):
-            return
-        self.actor.set_training_mode(mode)
-        self.critic.set_training_mode(mode)
+        mode = bool(mode)
+        # (actor, critic, {mode: [(module.__dict__, flag)]}); kept in __dict__ directly so that
+        # it is a plain attribute, not a registered submodule or saved state
+        cache = self.__dict__.get("_mode_flags")
+        if cache is None or cache[0] is not self.actor or cache[1] is not self.critic:
+            cache = (self.actor, self.critic, {})
+            self.__dict__["_mode_flags"] = cache
+        flags = cache[2].get(mode)
+        if flags is None:
+            self.actor.set_training_mode(mode)
+            self.critic.set_training_mode(mode)
+            modules = itertools.chain(self.actor.modules(), self.critic.modules())
+            cache[2][mode] = [(m.__dict__, m.training) for m in modules]
+        else:
+            # nn.Module keeps ``training`` in the instance __dict__ (Module.__setattr__ puts a
+            # plain bool there too), so this is the walk's assignment without its recursion
+            for attributes, flag in flags:
+                attributes["training"] = flag
         self.training = mode
-        flags = [
-            (m, m.training) for m in itertools.chain(self.actor.modules(), self.critic.modules())
-        ]
-        self.__dict__["_last_mode_switch"] = (mode, self.actor, self.critic, flags)
 
 
 MlpPolicy = DiscreteSACPolicy

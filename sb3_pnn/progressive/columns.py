@@ -69,6 +69,7 @@ class FrozenColumn(nn.Module):
         for i in range(self.n_layers):
             self.register_buffer(f"weight_{i}", th.zeros(sizes[i + 1], sizes[i]))
             self.register_buffer(f"bias_{i}", th.zeros(sizes[i + 1]))
+        self._hidden_names = [(f"weight_{i}", f"bias_{i}") for i in range(self.n_layers - 1)]
         super().train(False)
 
     def train(self, mode: bool = True) -> FrozenColumn:
@@ -96,10 +97,14 @@ class FrozenColumn(nn.Module):
     @th.no_grad()
     def hidden(self, x: th.Tensor) -> list[th.Tensor]:
         """Hidden activations [h_1, ..., h_L] of the column for input x (B, in_dim)."""
+        # the buffers by name (``.to()`` replaces them) and the activation's forward without
+        # the module call: what self.layer(i) and self.activation(...) give, read faster
+        buffers = self._buffers
+        activation = self.activation.forward
         out = []
         h = x
-        for i in range(self.n_layers - 1):
-            h = self.activation(F.linear(h, *self.layer(i)))
+        for weight_name, bias_name in self._hidden_names:
+            h = activation(F.linear(h, buffers[weight_name], buffers[bias_name]))
             out.append(h)
         return out
 
@@ -199,22 +204,27 @@ class ProgressiveNet(nn.Module):
             if lateral_weights is None
             else [lateral_weights[:, j : j + 1] for j in range(lateral_weights.shape[1])]
         )
+        # F.linear with the modules' own tensors is what nn.Linear.__call__ computes, without
+        # the module-call machinery (no hooks are used on these layers), as is .forward below
+        activation = self.activation.forward
+        laterals = self.laterals
         h = x
         last = len(self.layers) - 1
         for i, layer in enumerate(self.layers):
             z = (
-                layer(h)
+                F.linear(h, layer.weight, layer.bias)
                 if own_weight == 1.0
                 else own_weight * F.linear(h, layer.weight) + layer.bias
             )
             for j, src, key in self._lateral_plan[i]:
-                lat = self.laterals[key](prior_hidden[j][src])
+                lateral = laterals[key]
+                lat = F.linear(prior_hidden[j][src], lateral.weight, lateral.bias)
                 if fixed is None or fixed[i][j] != 1.0:
-                    lat = self.lateral_scale[i, j] * lat
+                    lat = scale[i, j] * lat
                 if weight_of is not None:
                     lat = weight_of[j] * lat
                 z = z + lat
-            h = self.activation(z) if i < last else z
+            h = activation(z) if i < last else z
         return h
 
     @th.no_grad()

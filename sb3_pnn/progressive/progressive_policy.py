@@ -110,8 +110,7 @@ class ProgressiveActor(BasePolicy):
         with th.no_grad():
             if self.lead_counts.device != g.device:
                 self.lead_counts = self.lead_counts.to(g.device)
-            lead = nn.functional.one_hot(g.argmax(dim=1), g.shape[1]).sum(dim=0)
-            self.lead_counts[row] += lead.to(self.lead_counts.dtype)
+            self.lead_counts[row] += th.bincount(g.argmax(dim=1), minlength=g.shape[1])
 
     def _predict(self, observation: PyTorchObs, deterministic: bool = False) -> th.Tensor:
         return actions_from_logits(self(observation), deterministic)

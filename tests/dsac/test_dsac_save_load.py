@@ -1,5 +1,8 @@
 """save/load round trip: same predictions, optimizers, ent coef and replay buffer; resumes."""
 
+import copy
+import json
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +40,10 @@ def test_round_trip_predicts_identically_and_resumes(tmp_path: Path) -> None:
     model = train_small()
     model.save(tmp_path / "dsac.zip")
     model.save_replay_buffer(tmp_path / "buffer.pkl")
+
+    with zipfile.ZipFile(tmp_path / "dsac.zip") as archive:
+        saved = json.loads(archive.read("data"))
+    assert "_polyak_cache" not in saved  # a cache of tensors, not state to save
 
     loaded = DiscreteSAC.load(tmp_path / "dsac.zip", env=model.get_env(), device="cpu")
     loaded.load_replay_buffer(tmp_path / "buffer.pkl")
@@ -88,3 +95,15 @@ def test_round_trip_with_fixed_ent_coef_and_without_env(tmp_path: Path) -> None:
     np.testing.assert_array_equal(
         model.predict(obs, deterministic=True)[0], loaded.predict(obs, deterministic=True)[0]
     )
+
+
+def test_polyak_update_averages_the_current_target_into_the_current_critic() -> None:
+    model = train_small(tau=0.25)
+    # A replaced target (as after policy surgery) is the one averaged from then on
+    model.critic_target = model.policy.critic_target = copy.deepcopy(model.policy.critic_target)
+    before = [p.detach().clone() for p in model.critic_target.parameters()]
+    model.train(gradient_steps=1, batch_size=16)
+    critic = list(model.critic.parameters())
+    for old, new, online in zip(before, model.critic_target.parameters(), critic, strict=True):
+        expected = old * 0.75 + online.detach() * 0.25
+        th.testing.assert_close(new.detach(), expected, rtol=1e-6, atol=1e-7)

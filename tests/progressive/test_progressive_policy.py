@@ -100,6 +100,26 @@ def test_prior_columns_always_in_eval_mode(priors):
     assert all(not m.training for m in policy.modules() if isinstance(m, FrozenColumn))
 
 
+def test_mode_switches_leave_the_flags_a_full_walk_would(priors):
+    policy = _model(priors).policy
+    modules = [*policy.actor.modules(), *policy.critic.modules()]
+    for mode in (True, False, True, True, False):
+        policy.set_training_mode(mode)
+        switched = [m.training for m in modules]
+        for m in modules:  # what SB3's recursive nn.Module.train(mode) leaves
+            m.training = not mode
+        policy.actor.train(mode)
+        policy.critic.train(mode)
+        assert switched == [m.training for m in modules]
+        assert policy.training == mode
+        assert not any(m.training for m in policy.critic_target.modules())
+    # a frozen column's flag set by hand is put right by the next switch
+    frozen = next(m for m in modules if isinstance(m, FrozenColumn))
+    frozen.training = True
+    policy.set_training_mode(True)
+    assert not frozen.training
+
+
 def test_fixed_lateral_scale_is_eq13_exactly(priors):
     policy = _model(priors, learn_lateral_scale=False).policy
     assert "lateral_scale" not in dict(policy.actor.net.named_parameters())
