@@ -11,6 +11,11 @@ A second table gives the cost of ``predict`` on one observation, what every envi
 a training run pays beside the updates (SB3 switches the policy to eval mode, converts the
 observation, runs the actor), with the same anchor.
 
+A third gives the cost of the study's cycle at one update per 4 environment steps: one
+``train(1)`` call (which switches the policy to train mode) and 4 ``predict`` calls (each
+switching it back to eval mode), without the environment; the study's transfer runs are about
+35 000 such cycles each.
+
 Usage: python bench/dsac_update.py [--nets 64,64 255,255] [--updates 200] [--repeats 5]
 """
 
@@ -27,7 +32,7 @@ import torch as th
 from stable_baselines3 import DQN
 
 import rov_envs  # noqa: F401 - registers the tasks
-from sb3_pnn import DiscreteSAC, SelectivePolicy
+from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 
 ENV = "rov_envs/PlanningStraight-v0"
 ENV_KWARGS = {"motion_obs": True}
@@ -58,6 +63,15 @@ def _predict_cost(model, obs, calls: int) -> float:
     for _ in range(calls):
         model.predict(obs, deterministic=False)
     return (time.process_time() - start) / calls * 1e3
+
+
+def _cycle_cost(model, obs, cycles: int, batch: int, steps_per_update: int = 4) -> float:
+    start = time.process_time()
+    for _ in range(cycles):
+        model.train(1, batch)
+        for _ in range(steps_per_update):
+            model.predict(obs, deterministic=False)
+    return (time.process_time() - start) / cycles * 1e3
 
 
 def _print_rounds(title: str, rounds: dict[str, list[float]], unit: str) -> None:
@@ -112,6 +126,12 @@ def main() -> None:
                     policy_kwargs={"net_arch": arch, "optimizer_kwargs": {"fused": False}},
                     **sac_kw,
                 ),
+                "DiscreteSAC + PNN": DiscreteSAC(
+                    ProgressivePolicy,
+                    env,
+                    policy_kwargs={"net_arch": arch, "priors": prior_paths[:1]},
+                    **sac_kw,
+                ),
                 "DiscreteSAC + SPNN": DiscreteSAC(
                     SelectivePolicy,
                     env,
@@ -130,6 +150,13 @@ def main() -> None:
                 learners, args.repeats, lambda m, obs=obs: _predict_cost(m, obs, 10 * args.updates)
             )
             _print_rounds(f"networks {arch}, predict on one observation:", predicts, "per call")
+            cycles = _rounds(
+                learners,
+                args.repeats,
+                lambda m, obs=obs: _cycle_cost(m, obs, args.updates, args.batch),
+            )
+            title = f"networks {arch}, train(1) + 4 predicts (the study's 1 update per 4 steps):"
+            _print_rounds(title, cycles, "per cycle")
 
 
 if __name__ == "__main__":

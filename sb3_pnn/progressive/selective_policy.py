@@ -28,6 +28,7 @@ weight) is returned by :meth:`SelectivePolicy.extra_logs`, which DiscreteSAC log
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from typing import Any
@@ -125,8 +126,13 @@ class SelectivePolicy(ProgressivePolicy):
                 f"gives the obstacle distance d of eq. 15), got {observation_space}"
             )
         for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
-            if not isinstance(value, (int, float)) or value < 0:
-                raise ValueError(f"{name} must be a number >= 0, got {value!r}")
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or value < 0
+            ):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         self.sigma = float(sigma)
         self.own_weight = float(own_weight)
         self.d_th = float(d_th)

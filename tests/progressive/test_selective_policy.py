@@ -118,6 +118,15 @@ def test_refuses_wrong_prior_count_and_missing_sonar(priors):
         _model(priors, gate="fuzzy")
 
 
+@pytest.mark.parametrize(
+    "name, value",
+    [("sigma", float("nan")), ("own_weight", float("inf")), ("d_th", -1.0), ("sigma", True)],
+)
+def test_refuses_eq15_weights_that_are_not_finite_numbers(priors, name, value):
+    with pytest.raises(ValueError, match=f"{name} must be a finite number >= 0, got {value!r}"):
+        _model(priors, **{name: value})
+
+
 def test_refuses_swapped_priors_naming_which_file_is_which(priors):
     with pytest.raises(ValueError) as info:
         _model(priors, priors=[priors["oa_dsac"], priors["pf_dsac"]])
