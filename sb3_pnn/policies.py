@@ -343,8 +343,10 @@ class DiscreteSACPolicy(BasePolicy):
         is what the walk would do, also to a module whose flag was changed by hand since.
         """
         mode = bool(mode)
-        # (actor, critic, {mode: [(module.__dict__, flag)]}); kept in __dict__ directly so that
-        # it is a plain attribute, not a registered submodule or saved state
+        # (actor, critic, {mode: [(module, flag)]}); kept in __dict__ directly so that it is a
+        # plain attribute, not a registered submodule or saved state (a deep copy of the policy
+        # maps the modules to their copies). A module added to the actor or critic after the
+        # first switch is not in the list: build a new policy rather than add modules to one.
         cache = self.__dict__.get("_mode_flags")
         if cache is None or cache[0] is not self.actor or cache[1] is not self.critic:
             cache = (self.actor, self.critic, {})
@@ -354,12 +356,12 @@ class DiscreteSACPolicy(BasePolicy):
             self.actor.set_training_mode(mode)
             self.critic.set_training_mode(mode)
             modules = itertools.chain(self.actor.modules(), self.critic.modules())
-            cache[2][mode] = [(m.__dict__, m.training) for m in modules]
+            cache[2][mode] = [(m, m.training) for m in modules]
         else:
             # nn.Module keeps ``training`` in the instance __dict__ (Module.__setattr__ puts a
             # plain bool there too), so this is the walk's assignment without its recursion
-            for attributes, flag in flags:
-                attributes["training"] = flag
+            for module, flag in flags:
+                module.__dict__["training"] = flag
         self.training = mode
 
 

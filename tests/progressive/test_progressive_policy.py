@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 import pytest
 import torch as th
 import torch.nn.functional as F
@@ -118,6 +120,11 @@ def test_mode_switches_leave_the_flags_a_full_walk_would(priors):
     frozen.training = True
     policy.set_training_mode(True)
     assert not frozen.training
+    # a deep copy switches its own modules (the remembered flags follow the copy)
+    twin = copy.deepcopy(policy)
+    twin.set_training_mode(False)
+    assert not any(m.training for m in [*twin.actor.modules(), *twin.critic.modules()])
+    assert policy.actor.training and twin.actor.net.layers[0].training is False
 
 
 def test_fixed_lateral_scale_is_eq13_exactly(priors):
