@@ -1,0 +1,110 @@
+"""How much of a PNN / SPNN training cycle the frozen prior columns cost: an upper bound of
+what caching their activations could save.
+
+The study's cycle at one update per 4 steps (one ``train(1)`` and 4 ``predict`` calls,
+[64, 64] networks, batch 256, one torch thread) is timed as it is (the anchor) and with
+``FrozenColumn.hidden`` answered from a dict of its first answers (shape-right stand-ins, so
+the rest of the arithmetic is unchanged); rounds alternate, the median is kept. Priors are
+untrained DiscreteSAC columns of the study's sizes (timing does not depend on their weights).
+
+Usage: python bench/frozen_cache_bound.py [--cycles 300] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import torch as th
+
+import rov_envs  # noqa: F401 - registers the tasks
+from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
+from sb3_pnn.progressive.columns import FrozenColumn
+
+ENV_KWARGS = {"motion_obs": True, "control_period": 0.5}
+NETS = {"net_arch": [64, 64]}
+#: The study's policy keywords (sb3_pnn.reproduce.setups.OURS, PlanningStraight)
+SPNN_STUDY = {"start_as_prior": True, "sigma": 1.0, "own_weight": 1.0}
+PNN_STUDY_STRAIGHT = {"start_as_prior": True, "lateral_scale_init": 0.0}
+
+
+def _cycle_ms(model, obs, cycles: int) -> float:
+    start = time.process_time()
+    for _ in range(cycles):
+        model.train(1, 256)
+        for _ in range(4):
+            model.predict(obs, deterministic=False)
+    return (time.process_time() - start) / cycles * 1e3
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cycles", type=int, default=300)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    th.set_num_threads(1)
+    env = gym.make("rov_envs/PlanningStraight-v0", **ENV_KWARGS)
+    with tempfile.TemporaryDirectory() as tmp:
+        priors = []
+        for task in ("PathFollowingStraight", "ObstacleAvoidance"):
+            prior = DiscreteSAC(
+                "MultiInputPolicy",
+                gym.make(f"rov_envs/{task}-v0", **ENV_KWARGS),
+                policy_kwargs=NETS,
+                device="cpu",
+            )
+            priors.append(str(Path(tmp) / f"{task}.zip"))
+            prior.save(priors[-1])
+        kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
+        models = {
+            "SPNN": DiscreteSAC(
+                SelectivePolicy,
+                env,
+                policy_kwargs={**NETS, "priors": priors, **SPNN_STUDY},
+                **kw,
+            ),
+            "PNN": DiscreteSAC(
+                ProgressivePolicy,
+                env,
+                policy_kwargs={**NETS, "priors": priors[:1], **PNN_STUDY_STRAIGHT},
+                **kw,
+            ),
+        }
+    for model in models.values():
+        model.learn(600)
+    obs, _ = env.reset(seed=0)
+    real = FrozenColumn.hidden
+    answers: dict = {}
+
+    def from_dict(column, x):
+        key = (id(column), tuple(x.shape))
+        if key not in answers:
+            answers[key] = real(column, x)
+        return answers[key]
+
+    rounds: dict[tuple[str, str], list[float]] = {}
+    try:
+        for _ in range(args.repeats):
+            for name, model in models.items():
+                for mode, hidden in (("computed", real), ("from a dict", from_dict)):
+                    FrozenColumn.hidden = hidden
+                    rounds.setdefault((name, mode), []).append(_cycle_ms(model, obs, args.cycles))
+    finally:
+        FrozenColumn.hidden = real
+    print("train(1) + 4 predicts, [64, 64], batch 256, one thread (median of rounds):")
+    for name in models:
+        anchor = statistics.median(rounds[(name, "computed")])
+        bound = statistics.median(rounds[(name, "from a dict")])
+        print(
+            f"  {name}: {anchor:.3f} ms per cycle with the prior columns computed, "
+            f"{bound:.3f} ms answered from a dict ({bound / anchor:.2f}x, "
+            f"at most {1 - bound / anchor:.0%} to save)"
+        )
+
+
+if __name__ == "__main__":
+    main()
