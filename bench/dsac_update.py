@@ -38,6 +38,33 @@ ENV = "rov_envs/PlanningStraight-v0"
 ENV_KWARGS = {"motion_obs": True}
 
 
+def positive_int(text: str) -> int:
+    """argparse type: an integer >= 1 (counts of rounds, updates, cycles)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not allowed: expected an integer >= 1")
+    return value
+
+
+def untrained_priors(folder: Path, arch: list[int], env_kwargs: dict) -> list[str]:
+    """Saved, untrained DiscreteSAC path-following and obstacle-avoidance columns of hidden
+    widths ``arch`` (timing does not depend on their weights): [pf.zip, oa.zip]."""
+    paths = []
+    for task in ("PathFollowingStraight", "ObstacleAvoidance"):
+        prior = DiscreteSAC(
+            "MultiInputPolicy",
+            gym.make(f"rov_envs/{task}-v0", **env_kwargs),
+            policy_kwargs={"net_arch": arch},
+            device="cpu",
+        )
+        paths.append(str(folder / f"{task}.zip"))
+        prior.save(paths[-1])
+    return paths
+
+
 def _filled(model, steps: int):
     model.learn(steps)
     return model
@@ -85,9 +112,9 @@ def _print_rounds(title: str, rounds: dict[str, list[float]], unit: str) -> None
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nets", nargs="+", default=["64,64", "255,255"])
-    parser.add_argument("--updates", type=int, default=200)
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--batch", type=int, default=256)
+    parser.add_argument("--updates", type=positive_int, default=200)
+    parser.add_argument("--repeats", type=positive_int, default=5)
+    parser.add_argument("--batch", type=positive_int, default=256)
     args = parser.parse_args()
     th.set_num_threads(1)
     env = gym.make(ENV, **ENV_KWARGS)
@@ -95,16 +122,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for net in args.nets:
             arch = [int(w) for w in net.split(",")]
-            prior_paths = []
-            for task in ("PathFollowingStraight", "ObstacleAvoidance"):
-                prior = DiscreteSAC(
-                    "MultiInputPolicy",
-                    gym.make(f"rov_envs/{task}-v0", **ENV_KWARGS),
-                    policy_kwargs={"net_arch": arch},
-                    device="cpu",
-                )
-                prior_paths.append(str(Path(tmp) / f"{task}.zip"))
-                prior.save(prior_paths[-1])
+            prior_paths = untrained_priors(Path(tmp), arch, ENV_KWARGS)
             learners = {
                 "DQN (anchor)": DQN(
                     "MultiInputPolicy",

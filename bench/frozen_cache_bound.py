@@ -15,11 +15,11 @@ from __future__ import annotations
 import argparse
 import statistics
 import tempfile
-import time
 from pathlib import Path
 
 import gymnasium as gym
 import torch as th
+from dsac_update import _cycle_cost, positive_int, untrained_priors  # bench/ is the script's folder
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
@@ -32,33 +32,15 @@ SPNN_STUDY = {"start_as_prior": True, "sigma": 1.0, "own_weight": 1.0}
 PNN_STUDY_STRAIGHT = {"start_as_prior": True, "lateral_scale_init": 0.0}
 
 
-def _cycle_ms(model, obs, cycles: int) -> float:
-    start = time.process_time()
-    for _ in range(cycles):
-        model.train(1, 256)
-        for _ in range(4):
-            model.predict(obs, deterministic=False)
-    return (time.process_time() - start) / cycles * 1e3
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cycles", type=int, default=300)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--cycles", type=positive_int, default=300)
+    parser.add_argument("--repeats", type=positive_int, default=3)
     args = parser.parse_args()
     th.set_num_threads(1)
     env = gym.make("rov_envs/PlanningStraight-v0", **ENV_KWARGS)
     with tempfile.TemporaryDirectory() as tmp:
-        priors = []
-        for task in ("PathFollowingStraight", "ObstacleAvoidance"):
-            prior = DiscreteSAC(
-                "MultiInputPolicy",
-                gym.make(f"rov_envs/{task}-v0", **ENV_KWARGS),
-                policy_kwargs=NETS,
-                device="cpu",
-            )
-            priors.append(str(Path(tmp) / f"{task}.zip"))
-            prior.save(priors[-1])
+        priors = untrained_priors(Path(tmp), NETS["net_arch"], ENV_KWARGS)
         kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
         models = {
             "SPNN": DiscreteSAC(
@@ -92,7 +74,9 @@ def main() -> None:
             for name, model in models.items():
                 for mode, hidden in (("computed", real), ("from a dict", from_dict)):
                     FrozenColumn.hidden = hidden
-                    rounds.setdefault((name, mode), []).append(_cycle_ms(model, obs, args.cycles))
+                    rounds.setdefault((name, mode), []).append(
+                        _cycle_cost(model, obs, args.cycles, 256)
+                    )
     finally:
         FrozenColumn.hidden = real
     print("train(1) + 4 predicts, [64, 64], batch 256, one thread (median of rounds):")

@@ -18,6 +18,7 @@ import statistics
 import time
 
 import torch as th
+from dsac_update import positive_int  # bench/ is the script's folder
 from torch import nn
 
 BATCH, IN, HIDDEN, ACTIONS = 256, 30, 64, 5
@@ -25,8 +26,8 @@ BATCH, IN, HIDDEN, ACTIONS = 256, 30, 64, 5
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--updates", type=int, default=2000)
+    parser.add_argument("--repeats", type=positive_int, default=3)
+    parser.add_argument("--updates", type=positive_int, default=2000)
     args = parser.parse_args()
     th.set_num_threads(1)
     th.manual_seed(0)

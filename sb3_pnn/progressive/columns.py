@@ -111,10 +111,8 @@ class FrozenColumn(nn.Module):
     @th.no_grad()
     def forward(self, x: th.Tensor) -> th.Tensor:
         """The column's own output (logits or Q-values) for input x."""
-        h = x
-        for i in range(self.n_layers - 1):
-            h = self.activation(F.linear(h, *self.layer(i)))
-        return F.linear(h, *self.layer(self.n_layers - 1))
+        hidden = self.hidden(x)
+        return F.linear(hidden[-1] if hidden else x, *self.layer(self.n_layers - 1))
 
 
 class ProgressiveNet(nn.Module):

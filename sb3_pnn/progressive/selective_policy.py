@@ -28,7 +28,6 @@ weight) is returned by :meth:`SelectivePolicy.extra_logs`, which DiscreteSAC log
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Sequence
 from typing import Any
@@ -40,6 +39,7 @@ from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from stable_baselines3.common.type_aliases import Schedule
 from torch import nn
 
+from sb3_pnn.checks import is_finite_number
 from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate
 from sb3_pnn.progressive.prior_loading import PriorSpec
 from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
@@ -126,12 +126,7 @@ class SelectivePolicy(ProgressivePolicy):
                 f"gives the obstacle distance d of eq. 15), got {observation_space}"
             )
         for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or value < 0
-            ):
+            if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         self.sigma = float(sigma)
         self.own_weight = float(own_weight)

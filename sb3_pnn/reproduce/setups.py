@@ -81,6 +81,7 @@ from collections.abc import Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from sb3_pnn.checks import is_finite_number
 from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
 
@@ -107,11 +108,6 @@ def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
     if kind == "episode":
         return (1, "episode"), n
     return (n, "step"), 1
-
-
-def _finite_number(value: Any) -> bool:
-    """A finite int or float (``--set`` may hand a factor a bool or a string)."""
-    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
 
 
 @dataclass(frozen=True)
@@ -155,7 +151,7 @@ class TrainingSetup:
             )
         for name in ("spnn_sigma", "spnn_own_weight"):
             value = getattr(self, name)
-            if not _finite_number(value) or value < 0:
+            if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
         for name in PER_PATH_FACTORS:
             value = getattr(self, name)
@@ -167,7 +163,7 @@ class TrainingSetup:
                     f"{list(PATH_CHOICES)} (or true / false)"
                 )
         sine_init = self.pnn_lateral_init_sine
-        if sine_init is not None and not _finite_number(sine_init):
+        if sine_init is not None and not is_finite_number(sine_init):
             raise ValueError(
                 f"pnn_lateral_init_sine={sine_init!r} is not allowed: expected a number, or None "
                 "for pnn_lateral_init's value"

@@ -21,6 +21,7 @@ from pathlib import Path
 import torch as th
 
 from sb3_pnn import DiscreteSAC
+from sb3_pnn.checks import is_finite_number
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.reproduce.plan import EVAL_TASKS
 from sb3_pnn.reproduce.setups import OURS
@@ -35,6 +36,12 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=30)
     parser.add_argument("--seeds", type=int, default=5)
     args = parser.parse_args()
+    for name in ("episodes", "seeds"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name} {getattr(args, name)} is not allowed: expected an integer >= 1")
+    for d_th in args.d_th:
+        if not is_finite_number(d_th) or d_th < 0:
+            parser.error(f"--d-th {d_th} is not allowed: expected finite distances >= 0 (m)")
     th.set_num_threads(1)
     tasks = [(label, env_id) for label, env_id, extra in EVAL_TASKS[args.path] if not extra]
     env_kwargs = OURS.env_kwargs()
