@@ -24,12 +24,12 @@ from dsac_update import _cycle_cost, positive_int, untrained_priors  # bench/ is
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.columns import FrozenColumn
+from sb3_pnn.reproduce.setups import OURS
 
-ENV_KWARGS = {"motion_obs": True, "control_period": 0.5}
-NETS = {"net_arch": [64, 64]}
-#: The study's policy keywords (sb3_pnn.reproduce.setups.OURS, PlanningStraight)
-SPNN_STUDY = {"start_as_prior": True, "sigma": 1.0, "own_weight": 1.0}
-PNN_STUDY_STRAIGHT = {"start_as_prior": True, "lateral_scale_init": 0.0}
+#: The study's environment and policy keywords on PlanningStraight, read from its set-up
+ENV_KWARGS = OURS.env_kwargs()
+SPNN_STUDY = OURS.sac_kwargs(agent="spnn", path="straight")["policy_kwargs"]
+PNN_STUDY = OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]
 
 
 def main() -> None:
@@ -40,19 +40,19 @@ def main() -> None:
     th.set_num_threads(1)
     env = gym.make("rov_envs/PlanningStraight-v0", **ENV_KWARGS)
     with tempfile.TemporaryDirectory() as tmp:
-        priors = untrained_priors(Path(tmp), NETS["net_arch"], ENV_KWARGS)
+        priors = untrained_priors(Path(tmp), SPNN_STUDY["net_arch"], ENV_KWARGS)
         kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
         models = {
             "SPNN": DiscreteSAC(
                 SelectivePolicy,
                 env,
-                policy_kwargs={**NETS, "priors": priors, **SPNN_STUDY},
+                policy_kwargs={**SPNN_STUDY, "priors": priors},
                 **kw,
             ),
             "PNN": DiscreteSAC(
                 ProgressivePolicy,
                 env,
-                policy_kwargs={**NETS, "priors": priors[:1], **PNN_STUDY_STRAIGHT},
+                policy_kwargs={**PNN_STUDY, "priors": priors[:1]},
                 **kw,
             ),
         }
