@@ -29,6 +29,7 @@ of shape (B, n_actions) and ``critic(obs)`` returns a tuple of ``n_critics`` ten
 import itertools
 from typing import Any
 
+import numpy as np
 import torch as th
 from gymnasium import spaces
 from stable_baselines3.common.policies import BaseModel, BasePolicy
@@ -41,6 +42,9 @@ from stable_baselines3.common.torch_layers import (
 )
 from stable_baselines3.common.type_aliases import PyTorchObs, Schedule
 from torch import nn
+
+from sb3_pnn.lean_adam import LeanFusedAdam
+from sb3_pnn.lean_predict import lean_obs_to_tensor, lean_space_shapes
 
 DEFAULT_NET_ARCH = [255, 255]  # paper Table 2: FCN = [255, 255, n_out]
 
@@ -263,12 +267,19 @@ class DiscreteSACPolicy(BasePolicy):
             kwargs["fused"] = self.device.type in ("cpu", "cuda")
         return kwargs
 
+    def _make_optimizer(self, params: list[nn.Parameter], lr: float) -> th.optim.Optimizer:
+        """``optimizer_class(params, lr=lr, **kwargs)``; a fused Adam is built as
+        :class:`~sb3_pnn.lean_adam.LeanFusedAdam`, the same arithmetic bit for bit with less
+        Python around the kernel (the class saved with the model stays ``optimizer_class``)."""
+        kwargs = self._optimizer_kwargs()
+        if self.optimizer_class is th.optim.Adam and kwargs.get("fused"):
+            return LeanFusedAdam(params, lr=lr, **kwargs)
+        return self.optimizer_class(params, lr=lr, **kwargs)  # type: ignore[call-arg]
+
     def _build(self, lr_schedule: Schedule) -> None:
         self.actor = self.make_actor()
-        self.actor.optimizer = self.optimizer_class(  # type: ignore[call-arg]
-            [p for p in self.actor.parameters() if p.requires_grad],
-            lr=lr_schedule(1),
-            **self._optimizer_kwargs(),
+        self.actor.optimizer = self._make_optimizer(
+            [p for p in self.actor.parameters() if p.requires_grad], lr_schedule(1)
         )
 
         if self.share_features_extractor:
@@ -282,11 +293,7 @@ class DiscreteSACPolicy(BasePolicy):
         else:
             self.critic = self.make_critic(features_extractor=None)
             critic_parameters = [p for p in self.critic.parameters() if p.requires_grad]
-        self.critic.optimizer = self.optimizer_class(  # type: ignore[call-arg]
-            critic_parameters,
-            lr=lr_schedule(1),
-            **self._optimizer_kwargs(),
-        )
+        self.critic.optimizer = self._make_optimizer(critic_parameters, lr_schedule(1))
 
         # The target never shares a features extractor and only moves by Polyak averaging
         self.critic_target = self.make_critic(features_extractor=None)
@@ -325,6 +332,41 @@ class DiscreteSACPolicy(BasePolicy):
 
     def forward(self, obs: PyTorchObs, deterministic: bool = False) -> th.Tensor:
         return self._predict(obs, deterministic=deterministic)
+
+    def predict(
+        self,
+        observation: np.ndarray | dict[str, np.ndarray],
+        state: tuple[np.ndarray, ...] | None = None,
+        episode_start: np.ndarray | None = None,
+        deterministic: bool = False,
+    ) -> tuple[np.ndarray, tuple[np.ndarray, ...] | None]:
+        """
+        SB3's ``BasePolicy.predict``, the same actions from the same observations and random
+        state, with the observation converted by :func:`~sb3_pnn.lean_predict.lean_obs_to_tensor`
+        (no deep copy, the device looked up once): SB3 calls this before every environment
+        step. Observations that function does not handle go through SB3's own ``predict``.
+        """
+        # (space, actor, shapes, a parameter of the actor: its device), found once per actor
+        lean = self.__dict__.get("_lean_predict")
+        if lean is None or lean[0] is not self.observation_space or lean[1] is not self.actor:
+            param = next(self.actor.parameters(), None)
+            shapes = lean_space_shapes(self.observation_space) if param is not None else None
+            lean = (self.observation_space, self.actor, shapes, param)
+            self.__dict__["_lean_predict"] = lean
+        _, _, shapes, param = lean
+        converted = None
+        if shapes is not None and state is None:
+            converted = lean_obs_to_tensor(shapes, observation, param.device)
+        if converted is None:
+            return super().predict(observation, state, episode_start, deterministic)
+        obs_tensor, vectorized = converted
+        self.set_training_mode(False)
+        with th.no_grad():
+            actions = self._predict(obs_tensor, deterministic=deterministic)
+        actions_np = actions.cpu().numpy().reshape((-1, *self.action_space.shape))
+        if not vectorized:
+            actions_np = actions_np.squeeze(axis=0)
+        return actions_np, state
 
     def _predict(self, observation: PyTorchObs, deterministic: bool = False) -> th.Tensor:
         """Argmax of the logits when deterministic, else a sample of the softmax policy."""
