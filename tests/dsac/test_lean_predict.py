@@ -74,3 +74,13 @@ def test_tensor_does_not_share_the_callers_array() -> None:
     assert vectorized
     array[:] = 1.0
     assert float(tensor.sum()) == 0.0
+
+
+def test_a_replaced_actor_is_the_one_that_predicts() -> None:
+    model = DiscreteSAC("MlpPolicy", "CartPole-v1", policy_kwargs={"net_arch": [8]}, device="cpu")
+    obs = np.stack([model.observation_space.sample() for _ in range(16)])
+    model.predict(obs)  # the lean path keeps the actor it read the device from
+    model.policy.actor = model.policy.make_actor()
+    with th.no_grad():
+        expected = model.policy.actor(th.as_tensor(obs)).argmax(dim=1).numpy()
+    np.testing.assert_array_equal(model.predict(obs, deterministic=True)[0], expected)
