@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import gymnasium as gym
@@ -32,30 +33,38 @@ SPNN_STUDY = OURS.sac_kwargs(agent="spnn", path="straight")["policy_kwargs"]
 PNN_STUDY = OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def cycle_bench_args(description: str) -> argparse.Namespace:
+    """``--cycles`` / ``--repeats`` of the benches that time the study's cycle; one torch thread."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--cycles", type=positive_int, default=300)
     parser.add_argument("--repeats", type=positive_int, default=3)
     args = parser.parse_args()
     th.set_num_threads(1)
+    return args
+
+
+def study_model_makers(env: gym.Env, priors: list[str]) -> dict[str, Callable[[], DiscreteSAC]]:
+    """{"SPNN", "PNN"}: functions that build the study's learner on ``env`` with ``priors``
+    ([path following, obstacle avoidance]; the PNN reads the first), without learning starts or
+    updates of its own (the benches call train() themselves). Call them while the prior files
+    exist."""
+    kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
+    return {
+        "SPNN": lambda: DiscreteSAC(
+            SelectivePolicy, env, policy_kwargs={**SPNN_STUDY, "priors": priors}, **kw
+        ),
+        "PNN": lambda: DiscreteSAC(
+            ProgressivePolicy, env, policy_kwargs={**PNN_STUDY, "priors": priors[:1]}, **kw
+        ),
+    }
+
+
+def main() -> None:
+    args = cycle_bench_args(__doc__.splitlines()[0])
     env = gym.make("rov_envs/PlanningStraight-v0", **ENV_KWARGS)
     with tempfile.TemporaryDirectory() as tmp:
         priors = untrained_priors(Path(tmp), SPNN_STUDY["net_arch"], ENV_KWARGS)
-        kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
-        models = {
-            "SPNN": DiscreteSAC(
-                SelectivePolicy,
-                env,
-                policy_kwargs={**SPNN_STUDY, "priors": priors},
-                **kw,
-            ),
-            "PNN": DiscreteSAC(
-                ProgressivePolicy,
-                env,
-                policy_kwargs={**PNN_STUDY, "priors": priors[:1]},
-                **kw,
-            ),
-        }
+        models = {name: make() for name, make in study_model_makers(env, priors).items()}
     for model in models.values():
         model.learn(600)
     obs, _ = env.reset(seed=0)

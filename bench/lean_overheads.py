@@ -17,7 +17,6 @@ Usage: python bench/lean_overheads.py [--cycles 300] [--repeats 3]
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import tempfile
 import time
@@ -26,12 +25,12 @@ from pathlib import Path
 
 import gymnasium as gym
 import torch as th
-from dsac_update import _cycle_cost, positive_int, untrained_priors  # bench/ is the script's folder
-from frozen_cache_bound import ENV_KWARGS, PNN_STUDY, SPNN_STUDY  # the study's keywords
+from dsac_update import _cycle_cost, untrained_priors  # bench/ is the script's folder
+from frozen_cache_bound import ENV_KWARGS, SPNN_STUDY, cycle_bench_args, study_model_makers
 from stable_baselines3.common.policies import BasePolicy
 
 import rov_envs  # noqa: F401 - registers the tasks
-from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
+from sb3_pnn import DiscreteSAC
 
 
 def _with_sb3_paths(model: DiscreteSAC) -> DiscreteSAC:
@@ -53,22 +52,13 @@ def _us_per_call(function, calls: int) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cycles", type=positive_int, default=300)
-    parser.add_argument("--repeats", type=positive_int, default=3)
-    args = parser.parse_args()
-    th.set_num_threads(1)
+    args = cycle_bench_args(__doc__.splitlines()[0])
     env = gym.make("rov_envs/PlanningStraight-v0", **ENV_KWARGS)
-    kw = dict(device="cpu", seed=0, learning_starts=0, gradient_steps=0, buffer_size=20_000)
     with tempfile.TemporaryDirectory() as tmp:
         priors = untrained_priors(Path(tmp), SPNN_STUDY["net_arch"], ENV_KWARGS)
-        setups = {
-            "SPNN": (SelectivePolicy, {**SPNN_STUDY, "priors": priors}),
-            "PNN": (ProgressivePolicy, {**PNN_STUDY, "priors": priors[:1]}),
-        }
         pairs = {}
-        for name, (policy, policy_kwargs) in setups.items():
-            built = [DiscreteSAC(policy, env, policy_kwargs=policy_kwargs, **kw) for _ in "ab"]
+        for name, make in study_model_makers(env, priors).items():
+            built = [make(), make()]
             for model in built:
                 model.learn(600)
                 model.train(2, 256)  # optimizer state exists, gradients in place
