@@ -16,6 +16,7 @@ import argparse
 import json
 import os
 import shlex
+import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -114,15 +115,16 @@ def main(argv: Sequence[str], work: Any = None) -> int:
                 summary = execute(plan, store, work, args.jobs, quiet=args.no_progress)
             except StudyConflictError as error:
                 parser.exit(2, f"error: {error}\n")
-            sessions.append(
-                {
-                    "started": started,
-                    "wall_s": time.time() - started,
-                    "jobs": args.jobs,
-                    "command": command,
-                }
-            )
+            sessions.append({**summary.session_record(started, args.jobs), "command": command})
             write_json_atomic(sessions_path, sessions)
+            if summary.stopped:
+                print(
+                    f"stopped after {len(summary.done)} new run(s), no report written; the same "
+                    "command resumes (a run cut short is run again)",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                return 130
             print(
                 f"runs: {len(summary.done)} done now, {len(summary.skipped_finished)} earlier, "
                 f"{len(summary.failed)} failed, {len(summary.blocked)} blocked",

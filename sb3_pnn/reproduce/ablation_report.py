@@ -98,10 +98,12 @@ def _setup_rows() -> list[str]:
 
 def made_by(command: str, sessions: Sequence[dict]) -> list[str]:
     """How the folder was made: the one command, or each session's when they differ (an
-    ablation grows over sessions with different ``--cells`` / ``--tasks``). A session's
-    ``note`` (written by hand into sessions.json, e.g. that it was stopped early) is quoted."""
+    ablation grows over sessions with different ``--cells`` / ``--tasks``, or a session has a
+    note). A session's ``note`` (written by a stopped invocation, or by hand into
+    sessions.json) is quoted."""
     recorded = [s.get("command") for s in sessions]
-    if not any(recorded) or set(recorded) == {command}:
+    noted = any(s.get("note") for s in sessions)  # e.g. a session stopped by Ctrl-C
+    if (not any(recorded) or set(recorded) == {command}) and not noted:
         return [f"Made by: `{command}`"]
     lines = ["Made by these sessions, in order (each resumes the folder and adds its runs):", ""]
     for number, (session, cmd) in enumerate(zip(sessions, recorded, strict=True), start=1):

@@ -232,18 +232,16 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
             print(f"error: {error}", file=sys.stderr)
             return 2
         sessions = _load_sessions(out)
-        sessions.append(
-            {
-                "started": started,
-                "wall_s": time.time() - started,
-                "jobs": args.jobs,
-                "runs_done": len(summary.done),
-                "runs_skipped_finished": len(summary.skipped_finished),
-                "runs_failed": len(summary.failed),
-                "runs_blocked": len(summary.blocked),
-            }
-        )
+        sessions.append(summary.session_record(started, args.jobs))
         write_json_atomic(out / SESSIONS, sessions)
+        if summary.stopped:
+            print(
+                f"stopped after {len(summary.done)} new run(s), no report drawn; the same "
+                "command resumes (a run cut short is run again)",
+                file=sys.stderr,
+                flush=True,
+            )
+            return 130
         print(
             f"runs: {len(summary.done)} done now, "
             f"{len(summary.skipped_finished)} finished earlier, "

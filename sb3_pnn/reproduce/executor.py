@@ -8,6 +8,11 @@ worker, so that a run orphaned by a killed study still either commits a complete
 nothing. The work itself is a plain function ``work(spec, tmp_dir, dep_dirs) -> dict`` (the
 manifest's extra fields): :func:`sb3_pnn.reproduce.work.run_work` in the real study, small
 stand-ins in tests.
+
+Ctrl-C (``KeyboardInterrupt``) stops the invocation: nothing new is started, the runs in
+flight end (a worker that got the interrupt too records its run as failed; one that did not
+commits it), and :func:`execute` returns its summary with ``stopped`` set, so that the caller
+can record the session; running the same command again resumes.
 """
 
 from __future__ import annotations
@@ -38,6 +43,23 @@ class ExecutionSummary:
     failed: dict[str, str] = field(default_factory=dict)  # run id -> error
     blocked: dict[str, str] = field(default_factory=dict)  # run id -> failed dependency
     wall_s: float = 0.0
+    stopped: bool = False  # ended by Ctrl-C before every run was done
+
+    def session_record(self, started: float, jobs: int) -> dict[str, Any]:
+        """What sessions.json keeps of this invocation (started: its ``time.time()``)."""
+        record: dict[str, Any] = {
+            "started": started,
+            "wall_s": time.time() - started,
+            "jobs": jobs,
+            "runs_done": len(self.done),
+            "runs_skipped_finished": len(self.skipped_finished),
+            "runs_failed": len(self.failed),
+            "runs_blocked": len(self.blocked),
+        }
+        if self.stopped:
+            record["stopped"] = True
+            record["note"] = f"stopped by the user after {len(self.done)} new run(s)"
+        return record
 
 
 def _init_worker() -> None:
@@ -177,6 +199,8 @@ def execute(
                         finished.add(run_id)
                         summary.done.append(run_id)
                     bar.update(1)
+    except KeyboardInterrupt:  # the pool has let its runs in flight end (module docstring)
+        summary.stopped = True
     finally:
         bar.close()
     summary.wall_s = time.time() - start

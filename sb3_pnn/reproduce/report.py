@@ -175,6 +175,50 @@ def success_table(results: StudyResults) -> list[str]:
     return lines
 
 
+def _mean_and_seeds(rates: list[float]) -> str:
+    """Mean success over runs (%) and each run's, in seed order."""
+    if not rates:
+        return "-"
+    per_seed = " ".join(f"{100 * r:.0f}" for r in rates)
+    return f"{100 * sum(rates) / len(rates):.0f} % ({per_seed})"
+
+
+def validation_table(results: StudyResults) -> list[str]:
+    """Each agent's best validation check (the policy kept and evaluated above) beside its last
+    (the policy at the end of the budget, which a study without ``keep_best`` would report)."""
+    checked = [r for r in results.select("transfer") if r.validation and r.validation["history"]]
+    if not checked:
+        return []
+    first = checked[0].validation
+    assert first is not None
+    lines = [
+        f"Validation checks (every {first['every']} training episodes, {first['n_episodes']} "
+        f"episodes each with the evaluation's start noise, seeds {first['seed']}+, apart from the "
+        "evaluation's): the best check's policy is the one kept and evaluated above; the last "
+        "check is the policy at the end of the budget. Mean over the runs (each run's, in seed "
+        "order):",
+        "",
+        "| policy | straight: best check | straight: last check | sine: best check | "
+        "sine: last check |",
+        "|---|---|---|---|---|",
+    ]
+    for agent in AGENTS:
+        cells = []
+        for path in ("straight", "sine"):
+            histories = [
+                r.validation["history"]
+                for r in results.select("transfer", agent, path)
+                if r.validation and r.validation["history"]
+            ]
+            best = [max(check["success_rate"] for check in h) for h in histories]
+            cells += [
+                _mean_and_seeds(best),
+                _mean_and_seeds([h[-1]["success_rate"] for h in histories]),
+            ]
+        lines.append(f"| {AGENT_LABELS[agent]} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def route_table(results: StudyResults) -> list[str]:
     """Mean |g| and |a_c| per policy and task (means over seeds of the evaluation means)."""
     lines = [
@@ -423,7 +467,11 @@ def _adopted_text(results: Any, study_folder: Path) -> str:
 
 
 def _sessions_text(sessions: list[dict[str, Any]]) -> str:
-    return ", ".join(f"{s['wall_s'] / 60:.1f} min with --jobs {s['jobs']}" for s in sessions)
+    return ", ".join(
+        f"{s['wall_s'] / 60:.1f} min with --jobs {s['jobs']}"
+        + (", stopped" if s.get("stopped") else "")
+        for s in sessions
+    )
 
 
 def cost_table(results: StudyResults) -> list[str]:
@@ -543,11 +591,14 @@ def write_report(
             lines.append(f"- `{run_id}`: {why}")
         lines.append("")
     lines += [*cost_table(results), ""]
+    checks = validation_table(results)
     lines += [
         "## Figure 20: success on the new tasks (ours beside the paper's)",
         "",
         *success_table(results),
         "",
+        *checks,
+        *([""] if checks else []),
         "## Learning speed (Figure 10)",
         "",
         *speed_lines,

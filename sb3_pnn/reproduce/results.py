@@ -22,6 +22,8 @@ class RunResult:
     episodes: dict[str, Any] | None = None
     evals: dict[str, dict[str, Any]] = field(default_factory=dict)
     folder: Path | None = None
+    # the keep-best checks (sb3_pnn.validation.KeepBestOnValidation.to_dict); None without them
+    validation: dict[str, Any] | None = None
 
     def trajectories(self) -> dict[int, np.ndarray]:
         """Recorded training trajectories, episode index -> (T, 2)."""
@@ -67,6 +69,8 @@ def load_results(plan: list[RunSpec], store: RunStore) -> StudyResults:
             result.episodes = json.loads((folder / "episodes.json").read_text())
         if (folder / "eval.json").is_file():
             result.evals = json.loads((folder / "eval.json").read_text())
+        if (folder / "validation.json").is_file():
+            result.validation = json.loads((folder / "validation.json").read_text())
         runs[spec.run_id] = result
     failures = {k: v for k, v in store.failures().items() if k in missing}
     return StudyResults(runs=runs, missing=missing, failures=failures)

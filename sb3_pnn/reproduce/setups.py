@@ -20,6 +20,9 @@ Factors:
   path-following and obstacle-avoidance tasks), when it should differ from ``updates``
   (empty: the same). A source column is trained once and reused by every agent and seed, so
   more updates there cost little beside the transfer runs.
+* ``batch_size``: samples per gradient step (section 3.2: "256 samples ... are used to
+  update"); ``prior_batch_size``: that of the source columns' runs, when it should differ
+  (0: the same), as ``prior_updates`` is to ``updates``.
 * ``train_start_noise``: training episodes start from a perturbed pose (1 m, 5 deg, the
   evaluation's noise) instead of the paper's exact start point (0, 0).
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
@@ -93,6 +96,8 @@ LEARNING_STARTS = 256
 #: Training episodes between two validation checks, and episodes per check (``keep_best``).
 VALIDATION_EVERY = 25
 VALIDATION_EPISODES = 30
+#: Samples per gradient step in the paper (section 3.2) and DiscreteSAC's default.
+PAPER_BATCH_SIZE = 256
 
 
 def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
@@ -118,6 +123,8 @@ class TrainingSetup:
     control_period: float = 0.2
     updates: str = "episode:10"
     prior_updates: str = ""
+    batch_size: int = PAPER_BATCH_SIZE
+    prior_batch_size: int = 0
     train_start_noise: bool = False
     motion_obs: bool = False
     success_reward: float = 0.0
@@ -140,6 +147,13 @@ class TrainingSetup:
         parse_updates(self.updates)
         if self.prior_updates:
             parse_updates(self.prior_updates)
+        for name, low in (("batch_size", 1), ("prior_batch_size", 0)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < low:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected an integer >= {low}"
+                    + (" (0: as batch_size)" if low == 0 else "")
+                )
         if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
             raise ValueError(
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
@@ -195,10 +209,10 @@ class TrainingSetup:
 
     def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
-        ``prior``, those of a source column's run (``prior_updates``); ``agent="pnn"`` adds
-        PNN's ``lateral_scale_init`` and, on planning path ``path`` (``"straight"`` or
-        ``"sine"``), ``critic_priors`` and ``start_as_prior``; ``agent="spnn"`` SPNN's ``d_th``,
-        ``sigma``, ``own_weight`` and ``start_as_prior``."""
+        ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``);
+        ``agent="pnn"`` adds PNN's ``lateral_scale_init`` and, on planning path ``path``
+        (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
+        ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight`` and ``start_as_prior``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
@@ -207,10 +221,13 @@ class TrainingSetup:
             "gradient_steps": gradient_steps,
             "policy_kwargs": {"net_arch": list(self.net_arch)},
         }
+        batch_size = self.prior_batch_size if prior and self.prior_batch_size else self.batch_size
         # Named only when it departs from DiscreteSAC's default, so that the specs (and result
         # hashes) of runs made before this factor existed stay the same.
         if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
+        if batch_size != PAPER_BATCH_SIZE:
+            kwargs["batch_size"] = batch_size
         for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
             if agent == reader:
                 value, default = self._policy_value(name, path)
@@ -331,6 +348,8 @@ FACTOR_LABELS: dict[str, str] = {
     "control_period": "control period (s)",
     "updates": "update schedule",
     "prior_updates": "update schedule of the source columns",
+    "batch_size": "samples per update",
+    "prior_batch_size": "samples per update of the source columns",
     "train_start_noise": "training start noise",
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
@@ -363,6 +382,8 @@ def describe_value(name: str, value: Any) -> str:
     """A factor value as the report prints it."""
     if name == "prior_updates" and not value:
         return "as the update schedule"
+    if name == "prior_batch_size" and not value:
+        return "as the samples per update"
     if name == "pnn_lateral_init_sine" and value is None:
         return "as on the straight path"
     if name in ("updates", "prior_updates"):
@@ -412,6 +433,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
         elif isinstance(default, float):
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
             value = float(value) if ok else value
+        elif isinstance(default, int):
+            ok = isinstance(value, int) and not isinstance(value, bool)
         elif default is None:  # a number, or null for "as the factor it refines"
             ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
             value = float(value) if ok and value is not None else value

@@ -76,6 +76,25 @@ def fake_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]
         }
         np.savez_compressed(tmp / "trajectories.npz", **trajs)
         (tmp / "model.zip").write_bytes(b"stand-in")
+    if spec.validation and spec.kind == "transfer":  # checks rise to 100 %, the last is 50 %
+        every = int(spec.validation["every"])
+        checks = list(range(every, spec.episodes + 1, every)) or list(range(1, spec.episodes + 1))
+        rates = [min(1.0, 0.5 * (i + 1)) for i in range(len(checks))]
+        rates[-1] = 0.5
+        history = [
+            {"episode": e, "success_rate": r, "mean_return": 0.0} for e, r in zip(checks, rates)
+        ]
+        (tmp / "validation.json").write_text(
+            json.dumps(
+                {
+                    "every": every,
+                    "n_episodes": int(spec.validation["episodes"]),
+                    "seed": 20000,
+                    "history": history,
+                    "best_episode": checks[rates.index(max(rates))],
+                }
+            )
+        )
     if spec.eval_tasks:
         rate = 0.9 if spec.agent == "spnn" else 0.6
         evals = {label: _fake_eval(spec, label, rate) for label, _, _ in spec.eval_tasks}

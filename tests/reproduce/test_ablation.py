@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import pytest
@@ -240,3 +241,27 @@ def test_spnn_mixing_weights_checked(name: str, bad: object) -> None:
     """Eq. 15's weights are finite numbers >= 0; anything else is refused by name."""
     with pytest.raises(ValueError, match=rf"{name}=.* is not allowed: expected a finite weight"):
         OURS.with_(**{name: bad})
+
+
+def test_stopped_ablation_session_is_recorded_and_the_report_quotes_it(
+    tmp_path, capsys, monkeypatch
+) -> None:
+    import sb3_pnn.reproduce.executor as executor
+    from sb3_pnn.reproduce.executor import ExecutionSummary
+
+    def stopped(plan, store, work, jobs, quiet=False):  # what execute returns after Ctrl-C
+        return ExecutionSummary(done=[plan[0].run_id], stopped=True)
+
+    out = tmp_path / "ablation"
+    argv = ["--ablation", "--tiny", "--seeds", "1", "--cells", "paper", "--tasks", "oa"]
+    argv += ["--no-progress", "--out", str(out)]
+    monkeypatch.setattr(executor, "execute", stopped)  # the CLI imports it when it runs
+    assert main(argv, work=fake_work) == 130
+    assert "stopped after 1 new run(s)" in capsys.readouterr().err
+    (session,) = json.loads((out / "sessions.json").read_text())
+    assert session["stopped"] is True and session["runs_done"] == 1
+    assert session["command"].startswith("python -m sb3_pnn.reproduce --ablation --tiny")
+    monkeypatch.undo()
+    assert main(argv, work=fake_work) == 0  # the same command resumes and writes the report
+    report = (out / "report.md").read_text()
+    assert "stopped by the user after 1 new run(s)" in report

@@ -15,6 +15,7 @@ from sb3_pnn.reproduce.plan import StudyConfig, build_plan
 from sb3_pnn.reproduce.report import write_report
 from sb3_pnn.reproduce.results import load_results
 from sb3_pnn.reproduce.store import RunStore
+from sb3_pnn.reproduce.work import build_model
 
 
 @pytest.mark.parametrize(
@@ -25,7 +26,10 @@ from sb3_pnn.reproduce.store import RunStore
      (["--episodes", "-3"], "--episodes must be an integer >= 1, got -3"),
      (["--set", "updats=step:4"], "--set 'updats=step:4' is not allowed"),
      (["--set", "keep_best=yes"], "expected a value like keep_best=false"),
-     (["--set", "updates=step:0"], "updates='step:0' is not allowed")],
+     (["--set", "updates=step:0"], "updates='step:0' is not allowed"),
+     (["--set", "batch_size=0"], "batch_size=0 is not allowed: expected an integer >= 1"),
+     (["--set", "batch_size=12.5"], "expected a value like batch_size=256"),
+     (["--set", "prior_batch_size=-1"], "prior_batch_size=-1 is not allowed")],
 )  # fmt: skip
 def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
@@ -44,6 +48,23 @@ def test_set_changes_the_runs_of_the_study() -> None:
             [1, "step"] if spec.kind == "prior" else [4, "step"]
         )
     assert all(spec.validation for spec in specs)  # the rest of `ours` stays
+    # the paper's 256 samples per update is DiscreteSAC's default: not written into the specs,
+    # so runs planned before the factor existed keep their hash
+    assert all("batch_size" not in spec.sac_kwargs for spec in specs)
+
+
+def test_batch_size_of_the_transfer_runs_and_of_the_source_columns() -> None:
+    changes = (("batch_size", 128), ("prior_batch_size", 256))
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)
+    specs = [spec for spec in build_plan(config) if spec.kind != "baseline"]
+    for spec in specs:
+        assert spec.sac_kwargs.get("batch_size") == (None if spec.kind == "prior" else 128)
+    # prior_batch_size 0 (the default): the source columns take batch_size too
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("batch_size", 64),))
+    plan = [spec for spec in build_plan(config) if spec.kind != "baseline"]
+    assert {spec.sac_kwargs["batch_size"] for spec in plan} == {64}
+    prior = next(spec for spec in plan if spec.kind == "prior")
+    assert build_model(prior, {}).batch_size == 64  # and the learner samples that many
 
 
 def test_unwritable_out(capsys, tmp_path) -> None:
@@ -72,6 +93,9 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     assert "**Smoke test** (budget `tiny`" in report and "No verdicts from a smoke test" in report
     assert "agree" not in report.split("## Do we agree with the paper?")[1]
     assert all(f"`{reason}`: " in report for reason in END_REASONS if reason != "none")
+    # the kept policy's validation check beside the last one (stand-ins: 100 % then 50 %)
+    assert "Validation checks (every 25 training episodes, 30 episodes each" in report
+    assert "| SPNN | 100 % (100) | 50 % (50) | 100 % (100) | 50 % (50) |" in report
     # the same runs reported as a full study: verdicts, no smoke-test mark
     config = StudyConfig(budget_name="tiny", seeds=1, eval_episodes=10)
     results = load_results(build_plan(config), RunStore(out))
