@@ -22,8 +22,26 @@ from dsac_update import positive_int  # bench/ is the script's folder
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
-from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes, path_of_env
+from sb3_pnn.reproduce.setups import SETUPS, TrainingSetup, parse_setup_changes, path_of_env
 from sb3_pnn.validation import KeepBestOnValidation
+
+#: The study's policy class per bench agent name.
+POLICIES = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}
+
+
+def study_learner(
+    agent: str, env: gym.Env, priors: list[str], setup: TrainingSetup, path: str
+) -> DiscreteSAC:
+    """The study's DiscreteSAC (``agent`` "sac"), PNN or SPNN on ``env`` with ``setup``'s
+    keyword arguments for planning path ``path``, seed 0, on the CPU; ``priors`` the prior zips
+    (PNN one, SPNN two, SAC none)."""
+    sac = setup.sac_kwargs(agent=agent, path=path)
+    sac["train_freq"] = tuple(sac["train_freq"])
+    if priors:
+        sac["policy_kwargs"]["priors"] = priors
+    if agent == "spnn":
+        sac["policy_kwargs"]["sonar_range"] = float(env.unwrapped.sonar_range)
+    return DiscreteSAC(POLICIES[agent], env, seed=0, device="cpu", **sac)
 
 
 def main() -> None:
@@ -43,15 +61,8 @@ def main() -> None:
     except ValueError as error:
         parser.error(str(error))
     th.set_num_threads(1)
-    sac = setup.sac_kwargs(agent=args.agent, path=path)
-    sac["train_freq"] = tuple(sac["train_freq"])
     env = gym.make(args.env, **setup.train_env_kwargs())
-    if args.priors:
-        sac["policy_kwargs"]["priors"] = args.priors
-    if args.agent == "spnn":
-        sac["policy_kwargs"]["sonar_range"] = float(env.unwrapped.sonar_range)
-    policy = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}
-    model = DiscreteSAC(policy[args.agent], env, seed=0, device="cpu", **sac)
+    model = study_learner(args.agent, env, args.priors, setup, path)
     callback = None
     validation = setup.validation()
     if validation:

@@ -29,27 +29,17 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 import torch as th
-from dsac_update import positive_int, untrained_priors  # bench/ is the script's folder
+from dsac_update import _cost, positive_int, untrained_priors  # bench/ is the script's folder
+from run_hash import study_learner
 
 import rov_envs  # noqa: F401 - registers the tasks
-from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
+from sb3_pnn import DiscreteSAC
 from sb3_pnn.reproduce.setups import OURS
 
 ENV = "rov_envs/PlanningStraight-v0"
 SETUP = OURS.with_(updates="step:4")
-POLICIES = {"SAC-Single": "MultiInputPolicy", "PNN": ProgressivePolicy, "SPNN": SelectivePolicy}
-
-
-def study_learner(name: str, priors: list[str], env: gym.Env) -> DiscreteSAC:
-    """The study's learner ``name`` on ``env`` (PNN reads the first prior, SPNN both)."""
-    agent = {"SAC-Single": "sac_single", "PNN": "pnn", "SPNN": "spnn"}[name]
-    kwargs = SETUP.sac_kwargs(agent=agent, path="straight")
-    kwargs["train_freq"] = tuple(kwargs["train_freq"])
-    if name == "PNN":
-        kwargs["policy_kwargs"]["priors"] = priors[:1]
-    if name == "SPNN":
-        kwargs["policy_kwargs"].update(priors=priors, sonar_range=float(env.unwrapped.sonar_range))
-    return DiscreteSAC(POLICIES[name], env, seed=0, device="cpu", **kwargs)
+#: Printed name -> (run_hash.study_learner's agent name, how many of the priors it reads).
+LEARNERS = {"SAC-Single": ("sac", 0), "PNN": ("pnn", 1), "SPNN": ("spnn", 2)}
 
 
 def _per_step_us(model: DiscreteSAC, steps: int) -> float:
@@ -79,12 +69,6 @@ def _split(model: DiscreteSAC, steps: int) -> dict[str, float]:
     return {"whole": whole, "rollout": rollout, "predict": predict, "env": env_step}
 
 
-def _train_ms(model: DiscreteSAC, batch: int, updates: int = 200) -> float:
-    start = time.process_time()
-    model.train(updates, batch)
-    return (time.process_time() - start) / updates * 1e3
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--priors", nargs="*", default=[], help="[path following, avoidance]")
@@ -101,7 +85,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         arch = list(SETUP.net_arch)
         priors = args.priors or untrained_priors(Path(tmp), arch, SETUP.env_kwargs())
-        learners = {name: study_learner(name, priors, env) for name in POLICIES}
+        learners = {
+            name: study_learner(agent, env, priors[:n_priors], SETUP, "straight")
+            for name, (agent, n_priors) in LEARNERS.items()
+        }
     for model in learners.values():
         model.learn(1000)  # past learning_starts: every 4th step updates
     print(f"per environment step (us, CPU, one thread; {args.steps} steps of learn())")
@@ -122,7 +109,7 @@ def main() -> None:
     for _ in range(args.repeats):
         for name, model in learners.items():
             for batch in (args.batch, half):
-                rounds.setdefault((name, batch), []).append(_train_ms(model, batch))
+                rounds.setdefault((name, batch), []).append(_cost(model, 200, batch))
     print(f"train(1), ms (median of {args.repeats} alternating rounds of 200 updates)")
     for name in learners:
         full = statistics.median(rounds[(name, args.batch)])

@@ -58,6 +58,8 @@ SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
 
 #: Default target entropy H_target as a fraction of log|A| (the paper does not give one).
 DEFAULT_TARGET_ENTROPY_RATIO = 0.5
+#: Samples per gradient step: the paper's (section 3.2, "256 samples ... are used to update").
+PAPER_BATCH_SIZE = 256
 
 
 class DiscreteSACLosses(NamedTuple):
@@ -211,7 +213,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         learning_rate: float | Schedule = 3e-4,
         buffer_size: int = 1_000_000,
         learning_starts: int = 1000,
-        batch_size: int = 256,
+        batch_size: int = PAPER_BATCH_SIZE,
         tau: float = 0.005,
         gamma: float = 0.99,
         train_freq: int | tuple[int, str] | list = (1, "episode"),

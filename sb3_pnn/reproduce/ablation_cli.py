@@ -119,8 +119,7 @@ def main(argv: Sequence[str], work: Any = None) -> int:
             write_json_atomic(sessions_path, sessions)
             if summary.stopped:
                 print(
-                    f"stopped after {len(summary.done)} new run(s), no report written; the same "
-                    "command resumes (a run cut short is run again)",
+                    summary.stopped_message(),
                     file=sys.stderr,
                     flush=True,
                 )

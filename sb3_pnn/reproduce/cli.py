@@ -236,8 +236,7 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
         write_json_atomic(out / SESSIONS, sessions)
         if summary.stopped:
             print(
-                f"stopped after {len(summary.done)} new run(s), no report drawn; the same "
-                "command resumes (a run cut short is run again)",
+                summary.stopped_message(),
                 file=sys.stderr,
                 flush=True,
             )

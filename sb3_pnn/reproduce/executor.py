@@ -61,6 +61,13 @@ class ExecutionSummary:
             record["note"] = f"stopped by the user after {len(self.done)} new run(s)"
         return record
 
+    def stopped_message(self) -> str:
+        """What a command line prints when Ctrl-C stopped it (it then writes no report)."""
+        return (
+            f"stopped after {len(self.done)} new run(s), no report written; the same command "
+            "resumes (a run cut short is run again)"
+        )
+
 
 def _init_worker() -> None:
     try:

@@ -85,7 +85,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from sb3_pnn.checks import is_finite_number
-from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO
+from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
 
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
@@ -96,8 +96,6 @@ LEARNING_STARTS = 256
 #: Training episodes between two validation checks, and episodes per check (``keep_best``).
 VALIDATION_EVERY = 25
 VALIDATION_EPISODES = 30
-#: Samples per gradient step in the paper (section 3.2) and DiscreteSAC's default.
-PAPER_BATCH_SIZE = 256
 
 
 def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
