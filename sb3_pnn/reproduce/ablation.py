@@ -6,7 +6,11 @@ A cell is one :class:`~sb3_pnn.reproduce.setups.TrainingSetup`. The cells are
   ``paper+<factor>=<value>``: one factor changed at a time from it;
 * ``ours`` (the study's default, :data:`~sb3_pnn.reproduce.setups.OURS`) and
   ``ours+<factor>=<value>``: one factor put back (or changed) at a time from it, plus
-  ``ours+prior_budget=0.5``: half the source columns' episodes.
+  ``ours+prior_budget=0.5``: half the source columns' episodes;
+* on the command line also any composite ``<base>+<factor>=<value>+...`` (:func:`cell_of`), e.g.
+  ``ours+updates=step:4+prior_updates=step:1+train_start_noise=off``: the study's own set-up
+  (ours with the schedule it runs, ``--set updates=step:4 prior_updates=step:1``) with one
+  more factor put back, for rows the catalog's one-factor cells do not cover.
 
 Every cell is trained on each task of :data:`TASKS` with ``--seeds`` seeds: DiscreteSAC on the
 three source tasks, and SPNN (eq. 15) on PlanningStraight from that cell's own seed-0
@@ -18,6 +22,7 @@ training seeds). The runs go through the study's executor and store (:mod:`.exec
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,6 +33,7 @@ from sb3_pnn.reproduce.setups import (
     PAPER,
     TrainingSetup,
     describe_value,
+    parse_setup_changes,
     path_of_env,
 )
 
@@ -157,6 +163,52 @@ def all_cells() -> list[AblationCell]:
 
 
 CELLS: dict[str, AblationCell] = {cell.name: cell for cell in all_cells()}
+BASES: dict[str, TrainingSetup] = {"paper": PAPER, "ours": OURS}
+
+
+def _factor_value(name: str, text: str) -> Any:
+    """A factor value written as in a cell name: the catalog's words (``on`` / ``off``,
+    ``64x64``) or a ``--set`` value (``false``, ``[64,64]``, ``step:4``)."""
+    default = getattr(PAPER, name, None)
+    if isinstance(default, bool) and text in ("on", "off"):
+        return text == "on"
+    if isinstance(default, tuple) and re.fullmatch(r"\d+(x\d+)*", text):
+        return tuple(int(w) for w in text.split("x"))
+    return parse_setup_changes([f"{name}={text}"])[name]
+
+
+def cell_of(name: str) -> AblationCell:
+    """The cell called ``name``: one of :data:`CELLS`, or a composite
+    ``<base>+<factor>=<value>+...`` (base ``paper`` or ``ours``; each factor changed in turn).
+    ValueError naming the bad part and what was expected otherwise."""
+    if name in CELLS:
+        return CELLS[name]
+    base_name, *items = str(name).split("+")
+    expected = (
+        "a cell of the catalog (--list) or <base>+<factor>=<value>+... with base one of "
+        f"{list(BASES)}"
+    )
+    if base_name not in BASES or not items:
+        raise ValueError(f"cell {name!r} is unknown; expected {expected}")
+    changes: dict[str, Any] = {}
+    for item in items:
+        factor, sep, text = item.partition("=")
+        if factor == "prior_budget":
+            raise ValueError(
+                f"cell {name!r}: prior_budget is only the catalog's "
+                f"ours+prior_budget={REDUCED_PRIOR_SHARE:g} cell, not part of a composite"
+            )
+        if not sep or factor in changes:
+            raise ValueError(f"cell {name!r}: {item!r} is not allowed; expected {expected}")
+        try:
+            changes[factor] = _factor_value(factor, text)
+        except ValueError as error:
+            raise ValueError(f"cell {name!r}: {error}") from None
+    try:
+        setup = BASES[base_name].with_(**changes)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"cell {name!r}: {error}") from None
+    return AblationCell(str(name), setup)
 
 
 @dataclass(frozen=True)
@@ -174,7 +226,9 @@ class AblationConfig:
             if not given:
                 raise ValueError(f"no {kind} chosen: expected some of {list(known)}")
             for name in given:
-                if name not in known:
+                if kind == "cell":
+                    cell_of(name)  # raises naming the bad part
+                elif name not in known:
                     raise ValueError(f"{kind} {name!r} is unknown; expected one of {list(known)}")
 
     @property
@@ -204,7 +258,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
         return rid
 
     for name in config.cells:
-        cell = CELLS[name]
+        cell = cell_of(name)
         for task in config.tasks:
             env_id, agent, prior_tasks = TASKS[task]
             for seed in range(config.seeds):

@@ -22,7 +22,14 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.ablation import BUDGETS, CELLS, TASKS, AblationConfig, build_ablation_plan
+from sb3_pnn.reproduce.ablation import (
+    BUDGETS,
+    CELLS,
+    TASKS,
+    AblationConfig,
+    build_ablation_plan,
+    cell_of,
+)
 from sb3_pnn.reproduce.cli import positive_int
 from sb3_pnn.reproduce.store import StudyConflictError, open_store_or_exit, write_json_atomic
 
@@ -34,7 +41,12 @@ def _names(kind: str, known: Sequence[str]) -> Any:
     def parse(text: str) -> tuple[str, ...]:
         names = tuple(n.strip() for n in text.split(",") if n.strip())
         for name in names:
-            if name not in known:
+            if kind == "cell":
+                try:
+                    cell_of(name)
+                except ValueError as error:
+                    raise argparse.ArgumentTypeError(str(error)) from None
+            elif name not in known:
                 raise argparse.ArgumentTypeError(
                     f"{kind} {name!r} is unknown; expected some of {', '.join(known)}"
                 )
@@ -67,7 +79,11 @@ def make_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--out", default=DEFAULT_OUT, help=f"folder (default {DEFAULT_OUT})")
     parser.add_argument(
-        "--cells", type=_names("cell", list(CELLS)), default=tuple(CELLS), help="comma list"
+        "--cells",
+        type=_names("cell", list(CELLS)),
+        default=tuple(CELLS),
+        help="comma list: catalog cells (--list) or composites such as "
+        "ours+updates=step:4+prior_updates=step:1+motion_obs=off",
     )
     parser.add_argument(
         "--tasks", type=_names("task", list(TASKS)), default=tuple(TASKS), help="comma list"

@@ -19,10 +19,10 @@ from collections.abc import Sequence
 from typing import Any
 
 from sb3_pnn.reproduce.ablation import (
-    CELLS,
     TASK_LABELS,
     TASKS,
     AblationConfig,
+    cell_of,
     reduced_column_id,
     run_id,
 )
@@ -148,7 +148,7 @@ def render_report(
         "|---|---|" + "---|" * len(tasks),
     ]
     for name in config.cells:
-        cell = CELLS[name]
+        cell = cell_of(name)
         entries = []
         for task in tasks:
             if TASKS[task][1] == "dsac" and cell.prior_share != 1.0:

@@ -84,6 +84,7 @@ from collections.abc import Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from rov_envs.physics.params import VEHICLES
 from sb3_pnn.checks import is_finite_number
 from sb3_pnn.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
@@ -142,6 +143,10 @@ class TrainingSetup:
     spnn_own_weight: float = PAPER_OWN_WEIGHT
 
     def __post_init__(self) -> None:
+        if self.vehicle not in VEHICLES:
+            raise ValueError(
+                f"vehicle={self.vehicle!r} is not allowed: expected one of {list(VEHICLES)}"
+            )
         parse_updates(self.updates)
         if self.prior_updates:
             parse_updates(self.prior_updates)

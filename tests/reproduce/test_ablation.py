@@ -15,6 +15,7 @@ from sb3_pnn.reproduce.ablation import (
     AblationConfig,
     all_cells,
     build_ablation_plan,
+    cell_of,
     run_id,
 )
 from sb3_pnn.reproduce.cli import main
@@ -87,6 +88,65 @@ def test_bad_config_refused(bad, match) -> None:
         AblationConfig(**bad)
 
 
+STUDY_NO_NOISE = "ours+updates=step:4+prior_updates=step:1+train_start_noise=off"
+
+
+def test_composite_cell_is_its_base_with_each_factor_changed() -> None:
+    """The study's own set-up with one more factor put back: a cell the catalog lacks."""
+    cell = cell_of(STUDY_NO_NOISE)
+    assert cell.setup == OURS.with_(
+        updates="step:4", prior_updates="step:1", train_start_noise=False
+    )
+    assert cell.describe() == (
+        "ours with update schedule 1 per 4 steps, update schedule of the source columns "
+        "1 per step, training start noise off"
+    )
+    # the catalog's words and the --set spellings name the same set-up; a catalog name is the
+    # catalog's cell
+    assert cell_of("ours+net_arch=255x255").setup == cell_of("ours+net_arch=[255,255]").setup
+    assert cell_of("paper+vehicle=wu2018") is CELLS["paper+vehicle=wu2018"]
+    # its planning runs learn at 1 update per 4 steps from its own seed-0 columns, trained at
+    # 1 per step without start noise
+    plan = build_ablation_plan(
+        AblationConfig("tiny", seeds=2, cells=(STUDY_NO_NOISE,), tasks=("planning_straight",))
+    )
+    by_id = {spec.run_id: spec for spec in plan}
+    spnn = by_id[run_id(STUDY_NO_NOISE, "planning_straight", 1)]
+    assert spnn.deps == (run_id(STUDY_NO_NOISE, "pf_straight", 0), run_id(STUDY_NO_NOISE, "oa", 0))
+    assert spnn.sac_kwargs["train_freq"] == [4, "step"]
+    for dep in spnn.deps:
+        assert by_id[dep].sac_kwargs["train_freq"] == [1, "step"]
+        assert by_id[dep].env_kwargs["start_noise"] == [0.0, 0.0]
+
+
+def test_composite_cell_row_in_the_report(tmp_path) -> None:
+    out = tmp_path / "ablation"
+    argv = ["--ablation", "--tiny", "--seeds", "1", "--cells", STUDY_NO_NOISE, "--jobs", "1"]
+    argv += ["--tasks", "planning_straight", "--no-progress", "--out", str(out)]
+    assert main(argv, work=fake_work) == 0
+    report = (out / "report.md").read_text()
+    assert f"--cells {STUDY_NO_NOISE} " in report  # the command that made it
+    row = next(line for line in report.splitlines() if line.startswith(f"| `{STUDY_NO_NOISE}`"))
+    assert "| ours with update schedule 1 per 4 steps, update schedule of the source " in row
+    assert row.endswith(" |") and "100 % [" in row  # stand-in SPNN: 90 % of 2 episodes
+
+
+@pytest.mark.parametrize(
+    ("name", "match"),
+    [("study+motion_obs=off", "cell 'study\\+motion_obs=off' is unknown"),
+     ("ours+bogus=1", "'bogus=1' is not allowed: expected factor=value"),
+     ("ours+updates=step:0", "updates='step:0' is not allowed"),
+     ("ours+motion_obs=maybe", "expected a value like motion_obs=false"),
+     ("ours+motion_obs", "'motion_obs' is not allowed"),
+     ("ours+updates=step:4+updates=step:2", "'updates=step:2' is not allowed"),
+     ("ours+prior_budget=0.5+motion_obs=off", "prior_budget is only the catalog's"),
+     ("paper+vehicle=boat", "vehicle='boat' is not allowed: expected one of")],
+)  # fmt: skip
+def test_bad_composite_cell_refused(name: str, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        cell_of(name)
+
+
 def test_bad_setup_refused() -> None:
     with pytest.raises(ValueError, match="updates='step:0'"):
         TrainingSetup(updates="step:0")
@@ -106,7 +166,9 @@ def test_cli_unknown_cell_one_line(capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
         main(["--ablation", "--cells", "paper,ourz", "--out", str(tmp_path)])
     assert exc.value.code == 2
-    assert "cell 'ourz' is unknown; expected some of paper," in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert sum("error" in line for line in err.splitlines()) == 1  # usage, then one error line
+    assert "cell 'ourz' is unknown; expected a cell of the catalog (--list) or" in err
 
 
 def test_stand_in_ablation_report(tmp_path, capsys) -> None:
