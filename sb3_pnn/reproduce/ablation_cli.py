@@ -25,6 +25,7 @@ from typing import Any
 from sb3_pnn.reproduce.ablation import (
     BUDGETS,
     CELLS,
+    DEFAULT_TASKS,
     TASKS,
     AblationConfig,
     build_ablation_plan,
@@ -65,7 +66,8 @@ def make_parser() -> argparse.ArgumentParser:
         prog="python -m sb3_pnn.reproduce --ablation",
         description="Train each set-up cell of the ablation (the paper's set-up, one factor "
         "changed at a time, the study's set-up, one factor put back at a time) on the source "
-        "tasks and PlanningStraight, and tabulate success, first success and cost.",
+        "tasks and PlanningStraight (PlanningSine when asked for), and tabulate success, first "
+        "success and cost.",
         epilog="Full budget: "
         + ", ".join(f"{t} {n}" for t, n in full.episodes.items())
         + f" training episodes, {full.eval_episodes} evaluation episodes per run.",
@@ -86,7 +88,10 @@ def make_parser() -> argparse.ArgumentParser:
         "ours+updates=step:4+prior_updates=step:1+motion_obs=off",
     )
     parser.add_argument(
-        "--tasks", type=_names("task", list(TASKS)), default=tuple(TASKS), help="comma list"
+        "--tasks",
+        type=_names("task", list(TASKS)),
+        default=DEFAULT_TASKS,
+        help=f"comma list of {', '.join(TASKS)} (default {','.join(DEFAULT_TASKS)})",
     )
     parser.add_argument("--list", action="store_true", help="print the cells and tasks, then stop")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")

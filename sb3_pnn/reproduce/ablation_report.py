@@ -114,6 +114,25 @@ def made_by(command: str, sessions: Sequence[dict]) -> list[str]:
     return [*lines, "", f"This table: `{command}`"]
 
 
+def _env_name(env_id: str) -> str:
+    """``rov_envs/PlanningSine-v0`` -> ``PlanningSine``."""
+    return env_id.split("/")[-1].rsplit("-v", 1)[0]
+
+
+def _transfer_sources(tasks: Sequence[str]) -> str:
+    """One sentence per planning task: which runs its SPNN learns from."""
+    sentences = []
+    for task in tasks:
+        env_id, agent, prior_tasks = TASKS[task]
+        if prior_tasks:
+            sources = " and ".join(_env_name(TASKS[t][0]) for t in prior_tasks)
+            sentences.append(
+                f" {_env_name(env_id)} is learned by {agent.upper()} from the cell's own seed-0 "
+                f"{sources} runs."
+            )
+    return "".join(sentences)
+
+
 def render_report(
     results: StudyResults, config: AblationConfig, command: str, sessions: Sequence[dict]
 ) -> str:
@@ -129,8 +148,7 @@ def render_report(
         + ", ".join(f"{TASK_LABELS[t]} {budget.episodes[t]}" for t in tasks)
         + f"; {budget.eval_episodes} evaluation episodes per run on its own task with the "
         "evaluation library's start noise (1 m, 5 deg; evaluation seeds 10000+, apart from the "
-        f"training seeds 0..{config.seeds - 1}). PlanningStraight is learned by SPNN from the "
-        "cell's own seed-0 PathFollowingStraight and ObstacleAvoidance runs.",
+        f"training seeds 0..{config.seeds - 1}).{_transfer_sources(tasks)}",
         "",
         "Each entry: evaluation success pooled over seeds [95 % interval: the hull of the "
         "pooled episodes' Wilson interval and the Student-t interval of the mean per-seed rate, "

@@ -19,6 +19,7 @@ from sb3_pnn.reproduce.ablation import (
     run_id,
 )
 from sb3_pnn.reproduce.cli import main
+from sb3_pnn.reproduce.plan import StudyConfig, build_plan
 from sb3_pnn.reproduce.setups import (
     AGENT_FACTORS,
     OURS,
@@ -117,6 +118,42 @@ def test_composite_cell_is_its_base_with_each_factor_changed() -> None:
     for dep in spnn.deps:
         assert by_id[dep].sac_kwargs["train_freq"] == [1, "step"]
         assert by_id[dep].env_kwargs["start_noise"] == [0.0, 0.0]
+
+
+def test_planning_sine_only_when_asked_for(tmp_path) -> None:
+    # the four tasks by default; PlanningSine on request, from the sine path's column
+    assert "planning_sine" not in AblationConfig().tasks and "planning_sine" in TASKS
+    plan = build_ablation_plan(
+        AblationConfig("full", seeds=2, cells=(STUDY_NO_NOISE,), tasks=("planning_sine",))
+    )
+    by_id = {spec.run_id: spec for spec in plan}
+    spnn = by_id[run_id(STUDY_NO_NOISE, "planning_sine", 1)]
+    assert spnn.env_id == "rov_envs/PlanningSine-v0" and spnn.path == "sine"
+    assert spnn.episodes == 400  # the paper's budget on the sinusoid (Figure 10)
+    assert spnn.deps == (run_id(STUDY_NO_NOISE, "pf_sine", 0), run_id(STUDY_NO_NOISE, "oa", 0))
+    assert by_id[spnn.deps[0]].env_id == "rov_envs/PathFollowingSine-v0"
+    # the study's own set-up on the sine path trains the 5-seed study's SPNN run, field for field
+    # (so the study's runs are that cell's rows without retraining them)
+    cell = "ours+updates=step:4+prior_updates=step:1"
+    ablation = build_ablation_plan(AblationConfig("full", 1, (cell,), ("planning_sine",)))
+    changes = (("updates", "step:4"), ("prior_updates", "step:1"))
+    study = {spec.run_id: spec for spec in build_plan(StudyConfig(seeds=1, setup_changes=changes))}
+    pairs = [(ablation[-1], study["spnn-sine-s0"])]
+    pairs += [(a, study[f"prior-{a.run_id.split('-')[1]}-s0"]) for a in ablation[:-1]]
+    for mine, theirs in pairs:
+        for field in ("env_id", "agent", "path", "seed", "episodes", "eval_episodes"):
+            assert getattr(mine, field) == getattr(theirs, field), field
+        for field in ("sac_kwargs", "env_kwargs", "validation"):
+            assert getattr(mine, field) == getattr(theirs, field), field
+    out = tmp_path / "ablation"
+    argv = ["--ablation", "--tiny", "--seeds", "1", "--cells", STUDY_NO_NOISE, "--jobs", "1"]
+    argv += ["--tasks", "planning_sine", "--no-progress", "--out", str(out)]
+    assert main(argv, work=fake_work) == 0
+    report = (out / "report.md").read_text()
+    assert "PlanningSine is learned by SPNN from the cell's own seed-0 PathFollowingSine and " in (
+        report
+    )
+    assert "| PlanningSine (SPNN) |" in report and "PlanningStraight" not in report
 
 
 def test_composite_cell_row_in_the_report(tmp_path) -> None:
