@@ -187,8 +187,6 @@ def _factor_value(name: str, text: str) -> Any:
     """A factor value written as in a cell name: the catalog's words (``on`` / ``off``,
     ``64x64``) or a ``--set`` value (``false``, ``[64,64]``, ``step:4``)."""
     default = getattr(PAPER, name, None)
-    if isinstance(default, bool) and text in ("on", "off"):
-        return text == "on"
     if isinstance(default, tuple) and re.fullmatch(r"\d+(x\d+)*", text):
         return tuple(int(w) for w in text.split("x"))
     return parse_setup_changes([f"{name}={text}"])[name]

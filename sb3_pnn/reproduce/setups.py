@@ -409,7 +409,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
     """``["factor=value", ...]`` (the ``--set`` options) as ``{factor: value}``.
 
     A value is read as JSON (``keep_best=false``, ``net_arch=[128,128]``, ``control_period=0.2``)
-    or else taken as a string (``updates=step:4``), and must have the type of the factor's value
+    or else taken as a string (``updates=step:4``; ``on`` / ``off`` for a switch, as in the
+    ablation's cell names), and must have the type of the factor's value
     in :data:`PAPER`. Raises ValueError naming the bad item and what was expected; the values
     themselves are then checked by :class:`TrainingSetup`.
     """
@@ -431,7 +432,10 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
                 isinstance(w, int) and not isinstance(w, bool) for w in value
             )
             value = tuple(value) if ok else value
-        elif isinstance(default, bool):
+        elif isinstance(default, bool):  # JSON true / false, or the ablation's words on / off
+            value = (
+                {"on": True, "off": False}.get(value, value) if isinstance(value, str) else value
+            )
             ok = isinstance(value, bool)
         elif isinstance(default, float):
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)

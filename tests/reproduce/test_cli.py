@@ -14,6 +14,7 @@ from sb3_pnn.reproduce.cli import main
 from sb3_pnn.reproduce.plan import StudyConfig, build_plan
 from sb3_pnn.reproduce.report import write_report
 from sb3_pnn.reproduce.results import load_results
+from sb3_pnn.reproduce.setups import parse_setup_changes
 from sb3_pnn.reproduce.store import RunStore
 from sb3_pnn.reproduce.work import build_model
 
@@ -36,6 +37,17 @@ def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
         main([*argv, "--out", str(tmp_path)])
     assert exc.value.code == 2
     assert match in capsys.readouterr().err
+
+
+def test_set_switch_takes_json_or_the_ablation_words() -> None:
+    # --set train_start_noise=off names the set-up that the ablation cell ...=off names
+    for off, on in (("false", "true"), ("off", "on")):
+        assert parse_setup_changes([f"train_start_noise={off}", f"motion_obs={on}"]) == {
+            "train_start_noise": False,
+            "motion_obs": True,
+        }
+    with pytest.raises(ValueError, match="expected a value like keep_best=false"):
+        parse_setup_changes(["keep_best=Off"])
 
 
 def test_set_changes_the_runs_of_the_study() -> None:
