@@ -176,6 +176,19 @@ class PNNExperimentManager(ExperimentManager):
         pprint(saved_hyperparams)
         return hyperparams, saved_hyperparams
 
+    def _preprocess_hyperparams(self, hyperparams: dict[str, Any]) -> Any:
+        """The zoo's, then the evaluation env gets the entry's ``env_kwargs`` too.
+
+        rl_zoo3 binds ``eval_env_kwargs`` to the command line's ``--env-kwargs`` (or ``{}``)
+        before it reads the config, so without ``--env-kwargs`` its EvalCallback and every
+        ``-optimize`` trial would evaluate on the env's defaults: another observation space
+        than the one trained on (``KeyError: 'motion'`` at the first evaluation).
+        """
+        result = super()._preprocess_hyperparams(hyperparams)
+        if self._eval_env_kwargs_args is None:
+            self.eval_env_kwargs = dict(self.env_kwargs)
+        return result
+
     def setup_experiment(self) -> tuple[BaseAlgorithm, dict[str, Any]] | None:
         """The zoo's setup; a bad value that the env or the learner refuses becomes one line."""
         try:
