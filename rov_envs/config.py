@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
+from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.tasks import HEADING_REFERENCES, PATH_SINE, TASKS, TaskSpec
 
@@ -98,6 +99,20 @@ class EnvConfig:
     motion_obs: bool = False
     progress_weighted: bool = False
     heading_reference: str = "path"
+    los_lookahead: float = DEFAULT_LOOKAHEAD
+    path_obs: bool = True
+    goal_obs: bool = False
+
+    @property
+    def obs_parts(self) -> tuple[str, ...]:
+        """Names of the observation's parts, in the order of the ``Dict`` space."""
+        wanted = (
+            ("path", self.path_obs),
+            ("goal", self.goal_obs),
+            ("sonar", self.task.sonar),
+            ("motion", self.motion_obs),
+        )
+        return tuple(name for name, on in wanted if on)
 
     @property
     def n_substeps(self) -> int:
@@ -190,6 +205,14 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
             from the bearing to the target point); default: the task's (``"goal"`` for
             ObstacleAvoidance, whose policy avoids obstacles on its way to a goal rather than
             following a path; ``"path"`` for every other task).
+        los_lookahead: the LOS lookahead distance Delta of eq. 16 in metres, in [0.5, 100]
+            (default 5; the paper gives none): the desired course points at the path point
+            Delta ahead of the closest one, so a vehicle d metres off the path is steered back
+            at atan(d / Delta).
+        path_obs: observe the "path" part [a_c / pi, g / d_L] (default: the task's; True for
+            every task but ObstacleAvoidance).
+        goal_obs: observe the "goal" part [heading deviation from the bearing to the target
+            point / pi] (default: the task's; True for ObstacleAvoidance only).
     """
     if task_name not in TASKS:
         raise ValueError(f"task={task_name!r} is not allowed: expected one of {sorted(TASKS)}")
@@ -214,6 +237,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         "control_period",
         "progress_weighted",
         "heading_reference",
+        "los_lookahead",
+        "path_obs",
+        "goal_obs",
     }
     unknown = sorted(set(kwargs) - known)
     if unknown:
@@ -288,6 +314,20 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
     heading_reference = kwargs.get("heading_reference", task.heading_reference)
     if not isinstance(heading_reference, str) or heading_reference not in HEADING_REFERENCES:
         raise _bad("heading_reference", heading_reference, f"one of {list(HEADING_REFERENCES)}")
+    los_lookahead = _finite_float(
+        "los_lookahead", kwargs.get("los_lookahead", DEFAULT_LOOKAHEAD), "a float in [0.5, 100] (m)"
+    )
+    if not 0.5 <= los_lookahead <= 100.0:
+        raise _bad("los_lookahead", los_lookahead, "a float in [0.5, 100] (m)")
+    path_obs = kwargs.get("path_obs", task.path_obs)
+    goal_obs = kwargs.get("goal_obs", task.goal_obs)
+    for name, value in (("path_obs", path_obs), ("goal_obs", goal_obs)):
+        if not isinstance(value, (bool, np.bool_)):
+            raise _bad(name, value, "True or False")
+    if not (path_obs or goal_obs):
+        raise _bad(
+            "path_obs", path_obs, "True when goal_obs is False (the observation needs a heading)"
+        )
     vehicle = kwargs.get("vehicle", DEFAULT_VEHICLE)
     if not isinstance(vehicle, str) or vehicle not in VEHICLES:
         raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
@@ -312,6 +352,9 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         dt=dt,
         progress_weighted=bool(progress_weighted),
         heading_reference=heading_reference,
+        los_lookahead=los_lookahead,
+        path_obs=bool(path_obs),
+        goal_obs=bool(goal_obs),
     )
     default_t = TIME_LIMIT_FACTOR * base.path_length / U_REF
     t_max = _finite_float(

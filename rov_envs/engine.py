@@ -56,6 +56,8 @@ class RovBatch:
         self.num_envs = n = int(num_envs)
         self.single_observation_space, self.single_action_space = make_spaces(self.config)
         c = self.config
+        self.has_path = "path" in c.obs_parts
+        self.has_goal = "goal" in c.obs_parts
         self.has_sonar = c.has_sonar
         self.has_motion = c.motion_obs
         self.continuous = c.continuous
@@ -72,14 +74,14 @@ class RovBatch:
             self.n_obs[:] = fixed.shape[0]
         self.rng = np.zeros(n, dtype=np.uint64)
         self.sonar_raw = np.zeros((n, q))
-        self.obs_path = np.zeros((n, 2), dtype=np.float32)
+        self.obs_path = np.zeros((n, K.PATH_COLUMNS), dtype=np.float32)
         self.obs_sonar = np.zeros((n, q), dtype=np.float32)
         self.obs_motion = np.zeros((n, 2), dtype=np.float32)
         #: results and counters, one row per ``rov_envs.kernel.O_*`` field
         self.out = np.zeros((K.O_SIZE, n))
         #: per vehicle: autoreset pending (next-step mode) / was reset this step (same-step mode)
         self.pending = np.zeros(n, dtype=np.bool_)
-        self.term_path = np.zeros((n, 2), dtype=np.float32)
+        self.term_path = np.zeros((n, K.PATH_COLUMNS), dtype=np.float32)
         self.term_sonar = np.zeros((n, q), dtype=np.float32)
         self.term_motion = np.zeros((n, 2), dtype=np.float32)
         self.final = np.zeros((K.F_SIZE, n))
@@ -206,7 +208,11 @@ class RovBatch:
 
     def _parts(self, path: np.ndarray, sonar: np.ndarray, motion: np.ndarray) -> dict:
         """The task's observation parts from rows of the given arrays (copies)."""
-        parts = {"path": path.copy()}
+        parts = {}
+        if self.has_path:
+            parts["path"] = path[..., :2].copy()
+        if self.has_goal:
+            parts["goal"] = path[..., 2:3].copy()
         if self.has_sonar:
             parts["sonar"] = sonar.copy()
         if self.has_motion:

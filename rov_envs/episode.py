@@ -15,7 +15,6 @@ from rov_envs import kernel as K
 from rov_envs.config import TARGET_RADIUS, U_REF, EnvConfig
 from rov_envs.layouts import LAYOUT_CODES, LAYOUT_FIXED, max_obstacles
 from rov_envs.physics.etd import ETD_SIZE
-from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.integrator import vehicle_coefficients
 from rov_envs.physics.params import vehicle_code
 from rov_envs.tasks import PATH_SINE
@@ -58,7 +57,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_DT] = config.dt
     c[K.C_NSUB] = config.n_substeps
     c[K.C_MAXSTEPS] = config.max_steps
-    c[K.C_LOOKAHEAD] = DEFAULT_LOOKAHEAD
+    c[K.C_LOOKAHEAD] = config.los_lookahead
     c[K.C_GOALX], c[K.C_GOALY] = config.target
     c[K.C_SONAR] = 1.0 if config.has_sonar else 0.0
     c[K.C_MOTION] = 1.0 if config.motion_obs else 0.0

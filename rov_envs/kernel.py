@@ -123,6 +123,11 @@ O_STEPS = 17  # steps taken in this episode
 O_PREV_GOAL = 18  # distance to the goal after the previous step (progress reward)
 O_SIZE = 19
 
+#: Columns of the ``obs_path`` buffer: the "path" part (a_c / pi, g / d_L), then the "goal"
+#: part (the heading deviation from the bearing to the target point, / pi). The environments
+#: expose the parts their task observes (:attr:`rov_envs.config.EnvConfig.obs_parts`).
+PATH_COLUMNS = 3
+
 MODE_PLAIN = 0
 MODE_NEXT_STEP = 1
 MODE_SAME_STEP = 2
@@ -189,8 +194,9 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     """Guidance, obstacle distance, sonar and motion of vehicle i; fills its observation and
     ``out``.
 
-    a_c is measured from the LOS course (eq. 16), or, with ``C_HEADING_GOAL`` set, from the
-    bearing to the target point. The sonar looks along the heading of the attitude quaternion
+    a_c is measured from the LOS course (eq. 16, lookahead ``C_LOOKAHEAD``), or, with
+    ``C_HEADING_GOAL`` set, from the bearing to the target point; the "goal" column always holds
+    the deviation from that bearing. The sonar looks along the heading of the attitude quaternion
     (the body x axis projected on the horizontal plane); guidance uses the heading row. The
     motion part is the body-frame sway v (m/s, over ground, as the vehicle's velocity state)
     and yaw rate r (rad/s), clipped to
@@ -204,12 +210,14 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     a_c, g, progress = los_tuple(
         int(cfg[C_PATH]), x, y, psi, cfg[C_AMP], cfg[C_WAVE], cfg[C_LOOKAHEAD], out[O_PROG, i]
     )
+    a_goal = wrap_to_pi(psi - math.atan2(cfg[C_GOALY] - y, cfg[C_GOALX] - x))
     if cfg[C_HEADING_GOAL] != 0.0:
-        a_c = wrap_to_pi(psi - math.atan2(cfg[C_GOALY] - y, cfg[C_GOALX] - x))
+        a_c = a_goal
     m = n_obs[i]
     d = _nearest(x, y, obstacles[i], m)
     obs_path[i, 0] = a_c / math.pi
     obs_path[i, 1] = min(1.0, max(-1.0, g / cfg[C_DL]))
+    obs_path[i, 2] = a_goal / math.pi
     if cfg[C_SONAR] != 0.0:
         rmax = cfg[C_RANGE]
         q = obs_sonar.shape[1]
@@ -450,8 +458,8 @@ def step_block(
             final[F_TERM, i] = out[O_TERM, i]
             final[F_TRUNC, i] = out[O_TRUNC, i]
             final[F_END, i] = out[O_END, i]
-            term_path[i, 0] = obs_path[i, 0]
-            term_path[i, 1] = obs_path[i, 1]
+            for k in range(PATH_COLUMNS):
+                term_path[i, k] = obs_path[i, k]
             for k in range(obs_sonar.shape[1]):
                 term_sonar[i, k] = obs_sonar[i, k]
             term_motion[i, 0] = obs_motion[i, 0]

@@ -18,9 +18,13 @@ MOTION_SPACE = spaces.Box(
 
 
 def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
-    """``Dict(path[, sonar][, motion])`` observations; ``Discrete(5)`` or ``Box(-1, 1, (2,))``
+    """``Dict([path][, goal][, sonar][, motion])`` observations (``config.obs_parts``); ``Discrete(5)`` or ``Box(-1, 1, (2,))``
     actions."""
-    parts: dict[str, spaces.Space] = {"path": spaces.Box(-1.0, 1.0, (2,), np.float32)}
+    parts: dict[str, spaces.Space] = {}
+    if "path" in config.obs_parts:
+        parts["path"] = spaces.Box(-1.0, 1.0, (2,), np.float32)
+    if "goal" in config.obs_parts:
+        parts["goal"] = spaces.Box(-1.0, 1.0, (1,), np.float32)
     if config.has_sonar:
         parts["sonar"] = spaces.Box(0.0, 1.0, (config.sonar_sectors,), np.float32)
     if config.motion_obs:

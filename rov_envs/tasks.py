@@ -59,6 +59,8 @@ class TaskSpec:
         heading_reference: what the heading deviation a_c (observation, and eq. 21's
             |a_c| >= pi/2 failure) is measured from: ``"path"``, the LOS course of eq. 16
             (lookahead 5 m), or ``"goal"``, the bearing from the vehicle to the target point.
+        path_obs, goal_obs: whether the observation has the "path" part [a_c / pi, g / d_L]
+            and the "goal" part [deviation from the bearing to the target / pi] by default.
     """
 
     name: str
@@ -72,6 +74,8 @@ class TaskSpec:
     wavelength: float = SINE_WAVELENGTH
     sonar: bool = False
     heading_reference: str = "path"
+    path_obs: bool = True
+    goal_obs: bool = False
 
 
 TASKS: dict[str, TaskSpec] = {
