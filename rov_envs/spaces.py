@@ -18,8 +18,8 @@ MOTION_SPACE = spaces.Box(
 
 
 def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
-    """``Dict([path][, goal][, sonar][, motion])`` observations (``config.obs_parts``); ``Discrete(5)`` or ``Box(-1, 1, (2,))``
-    actions."""
+    """``Dict([path][, goal][, sonar][, motion])`` observations (``config.obs_parts``);
+    ``Discrete(5)`` or ``Box(-1, 1, (2,))`` actions."""
     parts: dict[str, spaces.Space] = {}
     if "path" in config.obs_parts:
         parts["path"] = spaces.Box(-1.0, 1.0, (2,), np.float32)
