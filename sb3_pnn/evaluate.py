@@ -63,6 +63,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record", type=int, default=0, help="keep the first K trajectories")
     p.add_argument("--stochastic", action="store_true", help="sample actions (default: greedy)")
     p.add_argument("--out", default=None, help="write the result as JSON to this path")
+    p.add_argument(
+        "--num-threads",
+        type=int,
+        default=1,
+        help="torch threads (default 1: on few cores small networks run slower on more)",
+    )
     return p
 
 
@@ -98,6 +104,11 @@ def run(argv: Sequence[str] | None = None) -> int:
             raise _UsageError(f"--seed {args.seed}: expected an int >= 0")
         if not 0 <= args.record <= args.episodes:
             raise _UsageError(f"--record {args.record}: expected an int in [0, --episodes]")
+        if args.num_threads < 1:
+            raise _UsageError(f"--num-threads {args.num_threads}: expected an int >= 1")
+        import torch
+
+        torch.set_num_threads(args.num_threads)
         pos, head = args.start_noise
         if not (math.isfinite(pos) and math.isfinite(head) and pos >= 0 and head >= 0):
             raise _UsageError(f"--start-noise {pos} {head}: expected two finite floats >= 0")

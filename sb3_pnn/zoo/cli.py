@@ -209,8 +209,21 @@ def train_main(argv: list[str] | None = None) -> None:
         grace_period=ours.grace_period,
     )
     manager = type("TrainExperimentManager", (PNNExperimentManager,), {"options": options})
-    with _argv([TRAIN_PROG, *rest]), _zoo_manager(manager):
+    with _argv([TRAIN_PROG, *with_default_threads(rest)]), _zoo_manager(manager):
         rl_zoo3.train.train()
+
+
+#: Torch threads of ``train`` and ``enjoy`` unless ``--num-threads`` says otherwise (rl_zoo3's
+#: own default, -1, lets torch take every core: on 2 cores the small networks here then run
+#: several times slower than on one).
+DEFAULT_NUM_THREADS = 1
+
+
+def with_default_threads(argv: list[str]) -> list[str]:
+    """``argv`` with ``--num-threads 1`` added unless it already names a thread count."""
+    if any(a == "--num-threads" or a.startswith("--num-threads=") for a in argv):
+        return argv
+    return [*argv, "--num-threads", str(DEFAULT_NUM_THREADS)]
 
 
 def _without_option(argv: list[str], option: str) -> list[str]:
@@ -225,6 +238,19 @@ def _without_option(argv: list[str], option: str) -> list[str]:
         elif not item.startswith(option + "="):
             result.append(item)
     return result
+
+
+def _num_threads(argv: list[str]) -> tuple[int | None, list[str]]:
+    """(torch threads asked for with ``--num-threads N``: 1 by default, None for -1, torch's
+    own default, as in rl_zoo3; the other arguments)."""
+    parser = argparse.ArgumentParser(add_help=False)
+    parser.add_argument("--num-threads", type=int, default=DEFAULT_NUM_THREADS)
+    args, rest = parser.parse_known_args(argv)
+    if args.num_threads == -1:
+        return None, rest
+    if args.num_threads < 1:
+        raise ZooUsageError(f"--num-threads {args.num_threads}: expected an int >= 1, or -1")
+    return args.num_threads, rest
 
 
 def _enjoy_parser() -> argparse.ArgumentParser:
@@ -291,13 +317,19 @@ def enjoy_main(argv: list[str] | None = None) -> None:
 
         zoo_argv = _without_option(_without_option(argv, "--fps"), "--exp-id")
         zoo_argv += ["--exp-id", str(args.exp_id)]  # the run find_model chose
+        zoo_argv = with_default_threads(zoo_argv)
         if not any(a in ("-f", "--folder") for a in argv):
             zoo_argv += ["--folder", args.folder]  # not the zoo's hub-downloading default
         with _argv([ENJOY_PROG, *zoo_argv]):
             rl_zoo3.enjoy.enjoy()
         return
+    threads, rest = _num_threads(rest)
     if rest:
         raise ZooUsageError(f"--record does not support {' '.join(rest)}")
+    if threads is not None:
+        import torch
+
+        torch.set_num_threads(threads)
     from sb3_pnn.zoo.video import record
 
     record(args)

@@ -93,3 +93,24 @@ def test_module_entry_point_exit_code():
         timeout=120,
     )
     assert proc.returncode == 2 and proc.stderr.strip().startswith(f"{PROG}: error: --env")
+
+
+@pytest.mark.parametrize(("argv", "threads"), [([], 1), (["--num-threads", "2"], 2)])
+def test_torch_runs_on_one_thread_unless_told(argv, threads, capsys):
+    import torch
+
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(3)
+        assert (
+            run(["--model", "pid", "--env", "PathFollowingSine-v0", "--episodes", "1", *argv]) == 0
+        )
+        assert torch.get_num_threads() == threads
+    finally:
+        torch.set_num_threads(before)
+
+
+def test_zero_threads_is_a_usage_error(capsys):
+    argv = ["--model", "pid", "--env", "PathFollowingSine-v0", "--num-threads", "0"]
+    assert run(argv) == 2
+    assert "--num-threads 0" in capsys.readouterr().err

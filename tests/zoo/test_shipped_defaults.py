@@ -25,11 +25,16 @@ PLAN_RUN = "rov_envs-PlanningStraight-v0"
 def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A dsac model trained with the YAML defaults; two evaluations fire during training."""
     work = tmp_path_factory.mktemp("zoo_defaults")
-    run_cli(
+    result = run_cli(
         "train", "--algo", "dsac", "--env", PF_ENV, "-n", "700", "--eval-freq", "300",
         "--eval-episodes", "1", "-f", "logs", cwd=work, timeout=600,
     )  # fmt: skip
+    (work / "train.out").write_text(result.stdout)
     return work
+
+
+def test_train_runs_torch_on_one_thread_unless_told(trained: Path) -> None:
+    assert "Setting torch.num_threads to 1" in (trained / "train.out").read_text()
 
 
 def test_train_evaluates_on_the_entrys_env_kwargs(trained: Path) -> None:
@@ -46,6 +51,7 @@ def test_enjoy_runs_the_model_train_made(trained: Path) -> None:
         cwd=trained,
     )  # fmt: skip
     assert "Loading" in result.stdout
+    assert "Setting torch.num_threads to 1" in result.stdout
 
 
 def test_optimize_trials_evaluate_on_the_entrys_env_kwargs(
