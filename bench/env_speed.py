@@ -30,8 +30,8 @@ import numba
 import numpy as np
 
 import rov_envs  # noqa: F401  (registers the ids)
+from rov_envs.envs.sb3 import RovSB3VecEnv
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
-from rov_envs.sb3 import RovSB3VecEnv
 
 
 def timed(step: Callable[[int], None], seconds: float) -> float:

@@ -25,7 +25,7 @@ from dsac_update import _cycle_cost, positive_int, untrained_priors  # bench/ is
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.columns import FrozenColumn
-from sb3_pnn.reproduce.setups import OURS
+from sb3_pnn.reproduce.planning.setups import OURS
 
 #: The study's environment and policy keywords on PlanningStraight, read from its set-up
 ENV_KWARGS = OURS.env_kwargs()

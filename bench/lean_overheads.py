@@ -6,7 +6,7 @@ one torch thread, untrained priors of the study's sizes) it prints, per learner,
 
 * ``predict`` of one observation: SB3's ``BasePolicy.predict`` (the anchor) vs the package's;
 * one critic optimizer step (gradients in place): ``torch.optim.Adam(fused=True)`` (anchor) vs
-  :class:`sb3_pnn.lean_adam.LeanFusedAdam`, on the same parameters;
+  :class:`sb3_pnn.dsac.lean_adam.LeanFusedAdam`, on the same parameters;
 * the study's cycle at one update per 4 steps (``train(1)`` + 4 ``predict``, no environment):
   the same model with SB3's predict and PyTorch's Adam put back (anchor) vs as built.
 

@@ -27,10 +27,10 @@ from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
+from sb3_pnn.common.callbacks import VALIDATION_SEED, KeepBestOnValidation
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes, path_of_env
-from sb3_pnn.reproduce.work import EVAL_SEED
-from sb3_pnn.validation import VALIDATION_SEED, KeepBestOnValidation
+from sb3_pnn.reproduce.planning.setups import SETUPS, parse_setup_changes, path_of_env
+from sb3_pnn.reproduce.running.work import EVAL_SEED
 
 
 class Trace(BaseCallback):
@@ -158,7 +158,7 @@ def main() -> None:
     trace = Trace([model], obs0, args.episodes, args.every, evaluate, args.eval_every)
     callbacks = [trace]
     validation = setup.validation()
-    if validation:  # keep_best: what the study does (sb3_pnn.reproduce.work.train)
+    if validation:  # keep_best: what the study does (sb3_pnn.reproduce.running.work.train)
         keeper = KeepBestOnValidation(
             args.env, validation["every"], validation["episodes"], setup.env_kwargs()
         )

@@ -31,11 +31,11 @@ import numba
 import numpy as np
 from numba import njit, types
 
-from rov_envs import kernel as K
-from rov_envs.engine import RovBatch
 from rov_envs.physics import ACTION_TABLE
 from rov_envs.physics import integrator as I  # noqa: E741 (the module's short name)
 from rov_envs.physics.params import VEHICLES, vehicle_code, vehicle_params
+from rov_envs.sim import kernel as K
+from rov_envs.sim.engine import RovBatch
 
 
 def best_rate(step: Callable[[], None], seconds: float, repeats: int) -> float:

@@ -27,8 +27,8 @@ import torch as th
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.setups import OURS
-from sb3_pnn.reproduce.work import EVAL_SEED
+from sb3_pnn.reproduce.planning.setups import OURS
+from sb3_pnn.reproduce.running.work import EVAL_SEED
 
 #: (label, env id, extra env keywords): the study's evaluation tasks, by path.
 TASKS = {

@@ -22,8 +22,13 @@ from dsac_update import positive_int  # bench/ is the script's folder
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
-from sb3_pnn.reproduce.setups import SETUPS, TrainingSetup, parse_setup_changes, path_of_env
-from sb3_pnn.validation import KeepBestOnValidation
+from sb3_pnn.common.callbacks import KeepBestOnValidation
+from sb3_pnn.reproduce.planning.setups import (
+    SETUPS,
+    TrainingSetup,
+    parse_setup_changes,
+    path_of_env,
+)
 
 #: The study's policy class per bench agent name.
 POLICIES = {"sac": "MultiInputPolicy", "pnn": ProgressivePolicy, "spnn": SelectivePolicy}

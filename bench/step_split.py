@@ -34,7 +34,7 @@ from run_hash import study_learner
 
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC
-from sb3_pnn.reproduce.setups import OURS
+from sb3_pnn.reproduce.planning.setups import OURS
 
 ENV = "rov_envs/PlanningStraight-v0"
 SETUP = OURS.with_(updates="step:4")

@@ -28,7 +28,8 @@ from typing import Any
 
 import gymnasium as gym
 
-from rov_envs.tasks import ENV_IDS, TASKS
+from rov_envs.moved import ROV_ENVS_MOVED, install
+from rov_envs.sim.tasks import ENV_IDS, TASKS
 
 __all__ = ["ENV_IDS", "TASKS", "RovEnv", "RovVectorEnv", "RovSB3VecEnv", "register_envs"]
 
@@ -41,8 +42,8 @@ def register_envs() -> None:
             continue
         gym.register(
             id=env_id,
-            entry_point="rov_envs.env:RovEnv",
-            vector_entry_point="rov_envs.vector:RovVectorEnv",
+            entry_point="rov_envs.envs.env:RovEnv",
+            vector_entry_point="rov_envs.envs.vector:RovVectorEnv",
             kwargs={"task": name},
             max_episode_steps=None,  # the env truncates itself (the limit depends on kwargs)
         )
@@ -50,18 +51,19 @@ def register_envs() -> None:
 
 def __getattr__(name: str) -> Any:  # lazy: keep `import rov_envs` light
     if name == "RovEnv":
-        from rov_envs.env import RovEnv
+        from rov_envs.envs.env import RovEnv
 
         return RovEnv
     if name == "RovVectorEnv":
-        from rov_envs.vector import RovVectorEnv
+        from rov_envs.envs.vector import RovVectorEnv
 
         return RovVectorEnv
     if name == "RovSB3VecEnv":
-        from rov_envs.sb3 import RovSB3VecEnv
+        from rov_envs.envs.sb3 import RovSB3VecEnv
 
         return RovSB3VecEnv
     raise AttributeError(f"module 'rov_envs' has no attribute {name!r}")
 
 
 register_envs()
+install(ROV_ENVS_MOVED)

@@ -48,7 +48,7 @@ parameters compiled in as constants (selected by the vehicle code, ``kernel.C_VE
 task array), so that the many zeros of a set (M^-1 and the allocation matrix are sparse, r_g and
 r_b lie on the z axis) fold away; to let them fold, LLVM may assume no NaN or infinite operands
 and ignore the sign of zero in those variants (finite results are the same, up to the sign of a
-zero). numba's cache does not notice edits to ``params``: :mod:`rov_envs.kernel`, whose cached
+zero). numba's cache does not notice edits to ``params``: :mod:`rov_envs.sim.kernel`, whose cached
 step code embeds these constants, compares every compiled preset with ``vehicle_params(name)``
 at import and refuses to run on stale ones.
 """

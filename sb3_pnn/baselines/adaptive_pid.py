@@ -34,13 +34,12 @@ env's ``vehicle``; the constructor's defaults are the default vehicle's):
 * ``"wu2018"`` (pivots at 1.0-1.4 rad/s): ``trigger_distance = 12`` m, ``clearance = 3.5`` m
   (collision at 2 m, eq. 21, plus 1.5 m margin) and the PID's thresholds ``(0.4, 1.5)`` rad/s,
   ``yaw_rate_full = 0.7`` rad/s, tuned on PlanningStraight-v0 and PlanningSine-v0 with 1 m / 5 deg
-  start noise (100 % on both).
+  start noise.
 * ``"uuv_simulator"`` (turns at 0.16-0.27 rad/s, in circles of about 2 m): it has to start
   avoiding earlier and wider: ``trigger_distance = 18`` m, ``clearance = 4.5`` m, thresholds
-  ``(0.2, 0.6)`` rad/s (coarser than the plain PID's (0.05, 0.15): 264 of 360 with those),
-  ``yaw_rate_full = 0.3`` rad/s, tuned on the six sonar tasks (60 episodes each from seed 1000,
-  1 m / 5 deg start noise): 297 of 360 successes against 232 with Wu's gains
-  (PlanningStraightDense 32 against 0, PlanningSineDense 49 against 18).
+  ``(0.2, 0.6)`` rad/s (coarser than the plain PID's (0.05, 0.15)), ``yaw_rate_full = 0.3``
+  rad/s, tuned on the six sonar tasks (60 episodes each from seed 1000, 1 m / 5 deg start noise;
+  the tuning's figures are in docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -50,7 +49,8 @@ from typing import Any
 
 import numpy as np
 
-from sb3_pnn.baselines.pid import DEFAULT_DT, DEFAULT_VEHICLE, PIDController, _positive
+from sb3_pnn.baselines.pid import DEFAULT_DT, DEFAULT_VEHICLE, PIDController
+from sb3_pnn.common.checks import check_nonnegative
 
 _M_SIDE = 3
 
@@ -121,14 +121,16 @@ class AdaptivePIDController(PIDController):
             integral_limit=integral_limit,
             yaw_rate_full=yaw_rate_full,
         )
-        self.trigger_distance = _positive("trigger_distance", trigger_distance, allow_zero=False)
-        self.max_bias = _positive("max_bias", max_bias)
+        self.trigger_distance = check_nonnegative(
+            "trigger_distance", trigger_distance, allow_zero=False
+        )
+        self.max_bias = check_nonnegative("max_bias", max_bias)
         if self.max_bias >= math.pi / 2:
             raise ValueError(f"max_bias={max_bias!r} is not allowed: expected a float in [0, pi/2)")
-        self.clearance = _positive("clearance", clearance)
-        self.heading_guard = _positive("heading_guard", heading_guard)
-        self.sonar_range = _positive("sonar_range", sonar_range, allow_zero=False)
-        self.sonar_span = _positive("sonar_span", sonar_span, allow_zero=False)
+        self.clearance = check_nonnegative("clearance", clearance)
+        self.heading_guard = check_nonnegative("heading_guard", heading_guard)
+        self.sonar_range = check_nonnegative("sonar_range", sonar_range, allow_zero=False)
+        self.sonar_span = check_nonnegative("sonar_span", sonar_span, allow_zero=False)
         if self.sonar_span > 2.0 * math.pi + 1e-12:
             raise ValueError(
                 f"sonar_span={sonar_span!r} is not allowed: expected a float in (0, 2 pi]"

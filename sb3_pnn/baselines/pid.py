@@ -44,6 +44,8 @@ from typing import Any
 
 import numpy as np
 
+from sb3_pnn.common.checks import check_nonnegative
+
 #: The environments' control period (s): ``rov_envs.physics.dynamics.DEFAULT_CONTROL_PERIOD``.
 DEFAULT_DT = 0.2
 #: Table 1 action indices.
@@ -66,17 +68,6 @@ def wrap_to_pi(a: np.ndarray) -> np.ndarray:
     """Wrap angles (rad) to (-pi, pi]."""
     out = np.mod(np.asarray(a, dtype=np.float64) + math.pi, 2.0 * math.pi) - math.pi
     return np.where(out <= -math.pi, out + 2.0 * math.pi, out)
-
-
-def _positive(name: str, value: Any, allow_zero: bool = True) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not allowed: expected a finite float") from None
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        what = ">= 0" if allow_zero else "> 0"
-        raise ValueError(f"{name}={value!r} is not allowed: expected a finite float {what}")
-    return v
 
 
 class PIDController:
@@ -114,10 +105,10 @@ class PIDController:
         integral_limit: float = 0.5,
         yaw_rate_full: float = VEHICLE_GAINS[DEFAULT_VEHICLE]["yaw_rate_full"],
     ) -> None:
-        self.kp = _positive("kp", kp)
-        self.ki = _positive("ki", ki)
-        self.kd = _positive("kd", kd)
-        self.dt = _positive("dt", dt, allow_zero=False)
+        self.kp = check_nonnegative("kp", kp)
+        self.ki = check_nonnegative("ki", ki)
+        self.kd = check_nonnegative("kd", kd)
+        self.dt = check_nonnegative("dt", dt, allow_zero=False)
         if not isinstance(continuous, (bool, np.bool_)):
             raise ValueError(f"continuous={continuous!r} is not allowed: expected True or False")
         self.continuous = bool(continuous)
@@ -134,14 +125,15 @@ class PIDController:
                 "with 0 <= t1 <= t2"
             )
         self.turn_thresholds = (t1, t2)
-        self.integral_limit = _positive("integral_limit", integral_limit)
-        self.yaw_rate_full = _positive("yaw_rate_full", yaw_rate_full, allow_zero=False)
+        self.integral_limit = check_nonnegative("integral_limit", integral_limit)
+        self.yaw_rate_full = check_nonnegative("yaw_rate_full", yaw_rate_full, allow_zero=False)
         self._memory = np.zeros((0, self.memory_size))
 
     # ---- construction from an environment ----
     @staticmethod
     def env_config(env: Any) -> Any:
-        """The ``rov_envs.config.EnvConfig`` of an env (single, batched, wrapped) or a config."""
+        """The ``rov_envs.sim.config.EnvConfig`` of an env (single, batched, wrapped) or a
+        config."""
         if hasattr(env, "dt") and hasattr(env, "continuous") and hasattr(env, "sonar_range"):
             return env  # already an EnvConfig
         for obj in (getattr(env, "unwrapped", None), env, getattr(env, "batch", None)):

@@ -36,12 +36,13 @@ from stable_baselines3.common.torch_layers import (
 from stable_baselines3.common.type_aliases import PyTorchObs, Schedule
 from torch import nn
 
-from sb3_pnn.policies import DiscreteSACPolicy, actions_from_logits
+from sb3_pnn.dsac.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
 from sb3_pnn.progressive.gates import DistanceGate
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
 from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec, load_prior
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
+from sb3_pnn.safe_io.policy_registry import register_policy_class
 
 
 def _lateral_weights(
@@ -197,7 +198,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
     """
     DiscreteSAC policy with progressive columns (PNN, eq. 13): frozen priors + a new column.
 
-    Arguments as :class:`sb3_pnn.policies.DiscreteSACPolicy` (``net_arch`` is the new column's
+    Arguments as :class:`sb3_pnn.dsac.policies.DiscreteSACPolicy` (``net_arch`` is the new column's
     hidden widths; ``features_extractor_class`` defaults to Combined/Flatten by observation space),
     and:
 
@@ -454,7 +455,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         )
         return critic.to(self.device)
 
-    # --- contract hooks (CONTRACTS.md, Learner API) ---------------------------------------
+    # --- hooks DiscreteSAC calls (saving, logging) ------------------------------------------
     def portable_policy_kwargs(self) -> dict[str, Any]:
         """Policy kwargs that rebuild this policy without the prior files: ``priors`` replaced by
         JSON-able ``prior_specs`` (the prior weights travel in the saved state dict)."""
@@ -473,3 +474,6 @@ class ProgressivePolicy(DiscreteSACPolicy):
         data.update(self._progressive_kwargs())
         data["prior_specs"] = [s.to_json() for s in self.prior_specs]
         return data
+
+
+register_policy_class("ProgressivePolicy", ProgressivePolicy)

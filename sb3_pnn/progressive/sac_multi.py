@@ -21,7 +21,7 @@ import torch as th
 from gymnasium import spaces
 from stable_baselines3.common.type_aliases import GymEnv
 
-from sb3_pnn.dsac import DiscreteSAC
+from sb3_pnn.dsac.dsac import DiscreteSAC
 from sb3_pnn.progressive.obs_spec import match_prior_obs, obs_spec_from_space
 from sb3_pnn.progressive.prior_loading import ACTIVATIONS, load_prior
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns

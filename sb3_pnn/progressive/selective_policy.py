@@ -18,7 +18,7 @@ paper's tau is ``own_weight`` here (``tau`` is SB3's Polyak coefficient). Rusu's
 scalar per lateral is off by default (``learn_lateral_scale=False``) so that sigma keeps its
 meaning. The same gate acts in the actor and in every critic (Algorithm 1 transfers pi and Q).
 
-d = min(obs[sonar_key]) * sonar_range is the nearest-obstacle distance in metres (CONTRACTS:
+d = min(obs[sonar_key]) * sonar_range is the nearest-obstacle distance in metres (rov_envs'
 sonar sectors are distances / sonar_range). Gates: see :mod:`.gates` (``"hard"`` = paper,
 ``"soft"``, ``"learned"``). The share of samples on which each prior leads (largest gate
 weight) is returned by :meth:`SelectivePolicy.extra_logs`, which DiscreteSAC logs as
@@ -39,10 +39,11 @@ from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from stable_baselines3.common.type_aliases import Schedule
 from torch import nn
 
-from sb3_pnn.checks import is_finite_number
+from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate
 from sb3_pnn.progressive.prior_loading import PriorSpec
 from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
+from sb3_pnn.safe_io.policy_registry import register_policy_class
 
 PRIOR_NAMES = ("path_following", "obstacle_avoidance")
 #: The paper's switch distance d_th (m), "set to be 12.5 m after a number of experimental trials".
@@ -214,3 +215,6 @@ class SelectivePolicy(ProgressivePolicy):
                     logs[f"{prefix}_{name}"] = float(counts[row, j]) / total
         counts.zero_()
         return logs
+
+
+register_policy_class("SelectivePolicy", SelectivePolicy)

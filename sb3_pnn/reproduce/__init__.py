@@ -7,6 +7,6 @@ with which budgets), :mod:`.executor` (parallel runs in dependency order), :mod:
 :mod:`.report`.
 """
 
-from sb3_pnn.reproduce.plan import Budget, RunSpec, StudyConfig, build_plan
+from sb3_pnn.reproduce.planning.plan import Budget, RunSpec, StudyConfig, build_plan
 
 __all__ = ["Budget", "RunSpec", "StudyConfig", "build_plan"]

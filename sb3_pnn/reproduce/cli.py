@@ -24,9 +24,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sb3_pnn.reproduce.plan import BUDGETS, StudyConfig, build_plan
-from sb3_pnn.reproduce.setups import SETUPS, parse_setup_changes
-from sb3_pnn.reproduce.store import (
+from sb3_pnn.common.checks import positive_int
+from sb3_pnn.reproduce.planning.plan import BUDGETS, StudyConfig, build_plan
+from sb3_pnn.reproduce.planning.setups import SETUPS, parse_setup_changes
+from sb3_pnn.reproduce.running.store import (
     RunStore,
     StudyConflictError,
     open_store_or_exit,
@@ -37,23 +38,6 @@ DEFAULT_OUT = "results/study"
 #: Training seeds per budget when --seeds is not given.
 DEFAULT_SEEDS = {"full": 5, "quick": 2, "tiny": 2}
 SESSIONS = "sessions.json"
-
-
-def positive_int(name: str) -> Any:
-    """argparse type: an integer >= 1; the error names the option ``name``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{name} must be an integer >= 1, got {text!r}"
-            ) from None
-        if value < 1:
-            raise argparse.ArgumentTypeError(f"{name} must be an integer >= 1, got {value}")
-        return value
-
-    return parse
 
 
 def _budget_text(name: str, seeds: int) -> str:
@@ -126,7 +110,7 @@ def make_parser() -> argparse.ArgumentParser:
         default="ours",
         help="training set-up: 'ours' (default; each departure from the paper measured in "
         "docs/ablation/report.md) or 'paper' (the paper read literally); see "
-        "sb3_pnn/reproduce/setups.py",
+        "sb3_pnn/reproduce/planning/setups.py",
     )
     parser.add_argument(
         "--set",
@@ -134,7 +118,7 @@ def make_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="FACTOR=VALUE",
         help="change factors of the set-up, e.g. --set updates=step:4 keep_best=false "
-        "(factors: sb3_pnn/reproduce/setups.py; report.md lists the set-up used)",
+        "(factors: sb3_pnn/reproduce/planning/setups.py; report.md lists the set-up used)",
     )
     parser.add_argument(
         "--ablation",
@@ -189,9 +173,9 @@ def _load_sessions(out: Path) -> list[dict[str, Any]]:
 
 def finish(out: Path, config: StudyConfig, plan: list[Any], store: RunStore, jobs: int) -> Path:
     """Figures and report.md from whatever has finished in ``out``."""
-    from sb3_pnn.reproduce.figures import make_figures
-    from sb3_pnn.reproduce.report import write_report
-    from sb3_pnn.reproduce.results import load_results
+    from sb3_pnn.reproduce.reporting.figures import make_figures
+    from sb3_pnn.reproduce.reporting.report import write_report
+    from sb3_pnn.reproduce.running.results import load_results
 
     results = load_results(plan, store)
     figures = make_figures(results, out / "figures")
@@ -204,17 +188,17 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
     """Entry point; ``work`` replaces the real run function (tests only)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     if "--ablation" in argv:
-        from sb3_pnn.reproduce.ablation_cli import main as ablation_main
+        from sb3_pnn.reproduce.ablation.cli import main as ablation_main
 
         return ablation_main([a for a in argv if a != "--ablation"], work=work)
     parser, args, config = parse_study_args(argv)
     out = out_folder(args)
     store = open_store_or_exit(parser, out)
     try:
-        from sb3_pnn.reproduce.executor import execute
+        from sb3_pnn.reproduce.running.executor import execute
 
         if work is None:
-            from sb3_pnn.reproduce.work import run_work as work
+            from sb3_pnn.reproduce.running.work import run_work as work
         plan = build_plan(config)
         print(
             f"study: {len(plan)} runs ({config.budget_name} budget, {config.seeds} seed(s), "

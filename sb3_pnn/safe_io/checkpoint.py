@@ -12,6 +12,11 @@ SB3's ``load_from_zip_file(load_data=False)``, i.e. ``torch.load(weights_only=Tr
 and plain containers, no code. The ``data`` member is never read. The model is rebuilt through
 the constructor (``_init_setup_model=False``, then ``_setup_model()``) and the state dicts are
 put back with ``set_parameters(exact_match=True)``.
+
+This module is a layer below the algorithm: it knows SB3's ``OffPolicyAlgorithm`` and nothing of
+:class:`sb3_pnn.DiscreteSAC`. The algorithm class tells it what to store: its
+``CHECKPOINT_KEYS`` (the constructor arguments the JSON member holds, ``learning_rate`` aside)
+and ``checkpoint_hyperparameters()`` (their values for one model).
 """
 
 from __future__ import annotations
@@ -27,9 +32,8 @@ from typing import TYPE_CHECKING, Any
 import stable_baselines3 as sb3
 import torch as th
 from gymnasium import spaces
-from stable_baselines3.common.buffers import DictReplayBuffer, NStepReplayBuffer, ReplayBuffer
+from stable_baselines3.common.buffers import ReplayBuffer
 from stable_baselines3.common.save_util import load_from_zip_file, open_path, recursive_setattr
-from stable_baselines3.common.type_aliases import TrainFreq
 from stable_baselines3.common.utils import (
     ConstantSchedule,
     FloatSchedule,
@@ -43,20 +47,12 @@ from sb3_pnn.safe_io.policy_registry import get_policy_class, policy_class_name
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
 
 if TYPE_CHECKING:
-    from sb3_pnn.dsac import DiscreteSAC
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
 
 JSON_MEMBER = "sb3_pnn.json"
 FORMAT = "sb3_pnn.DiscreteSAC"
 VERSION = 1
 
-#: Constructor arguments stored in (and rebuilt from) the JSON member
-CONSTRUCTOR_KEYS = (
-    "learning_rate", "buffer_size", "learning_starts", "batch_size", "tau", "gamma",
-    "train_freq", "gradient_steps", "replay_buffer_class", "replay_buffer_kwargs",
-    "optimize_memory_usage", "n_steps", "ent_coef", "target_entropy_ratio",
-    "target_update_interval", "stats_window_size", "tensorboard_log", "policy_kwargs",
-    "verbose", "seed",
-)  # fmt: skip
 #: Counters restored after ``_setup_model``
 STATE_KEYS = (
     "num_timesteps", "_total_timesteps", "_num_timesteps_at_start", "_n_updates",
@@ -102,55 +98,22 @@ def schedule_from_json(data: Any, where: str) -> float | LinearSchedule:
 
 
 # --- saving -------------------------------------------------------------------------------
-def _auto_buffer_class(model: DiscreteSAC) -> bool:
-    """Whether ``replay_buffer_class`` is the one ``_setup_model`` picks when given None."""
-    cls = model.replay_buffer_class
-    if isinstance(model.observation_space, spaces.Dict):
-        return cls is DictReplayBuffer
-    return cls is (NStepReplayBuffer if model.n_steps > 1 else ReplayBuffer)
+def model_metadata(model: OffPolicyAlgorithm, algorithm_name: str = FORMAT) -> dict[str, Any]:
+    """The JSON member of ``model``'s checkpoint (ValueError naming what cannot be stored).
 
-
-def model_metadata(model: DiscreteSAC) -> dict[str, Any]:
-    """The JSON member of ``model``'s checkpoint (ValueError naming what cannot be stored)."""
-    buffer_kwargs = dict(model.replay_buffer_kwargs)
-    buffer_class = model.replay_buffer_class
-    if _auto_buffer_class(model):
-        buffer_class = None
-        if model.n_steps > 1:  # added by _setup_model, added again on load
-            buffer_kwargs.pop("n_steps", None)
-            buffer_kwargs.pop("gamma", None)
-    elif buffer_class is not None and safe_class_name(buffer_class) is None:
+    ``model``'s class provides ``checkpoint_hyperparameters()``: its constructor arguments as
+    plain values, and ``checkpoint_extras()``: further JSON entries for the record (see the
+    module docstring)."""
+    hyper = model.checkpoint_hyperparameters()  # type: ignore[attr-defined]
+    buffer_class = hyper.get("replay_buffer_class")
+    if buffer_class is not None and safe_class_name(buffer_class) is None:
         raise ValueError(
             f"cannot store replay_buffer_class {buffer_class!r} in a safe checkpoint: register "
             "it with sb3_pnn.safe_io.register_safe_class"
         )
-    train_freq = model.train_freq
-    if isinstance(train_freq, TrainFreq):
-        train_freq = (train_freq.frequency, train_freq.unit.value)
-    hyper = {
-        "buffer_size": model.buffer_size,
-        "learning_starts": model.learning_starts,
-        "batch_size": model.batch_size,
-        "tau": model.tau,
-        "gamma": model.gamma,
-        "train_freq": train_freq,
-        "gradient_steps": model.gradient_steps,
-        "replay_buffer_class": buffer_class,
-        "replay_buffer_kwargs": buffer_kwargs,
-        "optimize_memory_usage": model.optimize_memory_usage,
-        "n_steps": model.n_steps,
-        "ent_coef": model.ent_coef,
-        "target_entropy_ratio": model.target_entropy_ratio,
-        "target_update_interval": model.target_update_interval,
-        "stats_window_size": model._stats_window_size,
-        "tensorboard_log": model.tensorboard_log,
-        "policy_kwargs": model.policy_kwargs,
-        "verbose": model.verbose,
-        "seed": model.seed,
-    }
     state_dicts, variables = model._get_torch_save_params()
     return {
-        "format": FORMAT,
+        "format": algorithm_name,
         "version": VERSION,
         "stable_baselines3": sb3.__version__,
         "policy_class": policy_class_name(model.policy_class),
@@ -162,7 +125,7 @@ def model_metadata(model: DiscreteSAC) -> dict[str, Any]:
         ),
         "hyperparameters": {k: encode(v, k) for k, v in hyper.items()},
         "state": {k: encode(getattr(model, k), k) for k in STATE_KEYS},
-        "target_entropy": float(model.target_entropy),
+        **model.checkpoint_extras(),  # type: ignore[attr-defined]
         "state_dicts": list(state_dicts),
         "pytorch_variables": list(variables),
     }
@@ -253,15 +216,15 @@ def _check_env_spaces(env: Any, obs: spaces.Space, act: spaces.Space, name: str)
 
 
 def load_model(
-    cls: type[DiscreteSAC],
+    cls: type[OffPolicyAlgorithm],
     path: str | os.PathLike[str] | io.BufferedIOBase,
     env: Any = None,
     device: th.device | str = "auto",
     custom_objects: dict[str, Any] | None = None,
     print_system_info: bool = False,
     kwargs: dict[str, Any] | None = None,
-) -> DiscreteSAC:
-    """Rebuild a DiscreteSAC from a safe checkpoint (see the module docstring)."""
+) -> OffPolicyAlgorithm:
+    """Rebuild a model of class ``cls`` from a safe checkpoint (see the module docstring)."""
     kwargs = dict(kwargs or {})
     meta, params, variables, name = read_checkpoint(path, device="cpu")
     if print_system_info:
@@ -272,9 +235,7 @@ def load_model(
     obs_space = space_from_json(meta.get("observation_space"), f"{where} observation_space")
     act_space = space_from_json(meta.get("action_space"), f"{where} action_space")
     hyper_json = meta.get("hyperparameters")
-    if not isinstance(hyper_json, dict) or set(hyper_json) != set(CONSTRUCTOR_KEYS) - {
-        "learning_rate"
-    }:
+    if not isinstance(hyper_json, dict) or set(hyper_json) != set(cls.CHECKPOINT_KEYS):  # type: ignore[attr-defined]
         raise ValueError(f"{where}: malformed hyperparameters entry")
     hyper = {k: decode(v, f"{where} {k}") for k, v in hyper_json.items()}
     buffer_class = hyper["replay_buffer_class"]

@@ -33,7 +33,7 @@ from contextlib import contextmanager
 
 import gymnasium as gym
 
-from sb3_pnn.suggest import did_you_mean
+from sb3_pnn.common.checks import did_you_mean
 from sb3_pnn.zoo.errors import ZooUsageError
 
 TRAIN_PROG = "python -m sb3_pnn.train"

@@ -25,7 +25,7 @@ from typing import Any
 
 import yaml
 
-from sb3_pnn.suggest import did_you_mean
+from sb3_pnn.common.checks import did_you_mean
 from sb3_pnn.zoo.errors import ZooUsageError
 
 CONFIG_ENV_VAR = "SB3_PNN_ZOO_CONFIGS"
@@ -67,7 +67,7 @@ def config_search_dirs() -> list[Path]:
 
 
 #: The shipped set-ups: ``ours`` (the default files) and ``paper`` (the ``paper/`` subfolder),
-#: the same two as ``sb3_pnn.reproduce --setup`` (sb3_pnn/reproduce/setups.py).
+#: the same two as ``sb3_pnn.reproduce --setup`` (sb3_pnn/reproduce/planning/setups.py).
 CONFIG_SETUPS = {"ours": "", "paper": "paper"}
 
 

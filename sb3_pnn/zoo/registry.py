@@ -17,7 +17,7 @@ import rl_zoo3.hyperparams_opt as hyperparams_opt
 import rl_zoo3.train
 from stable_baselines3.common.base_class import BaseAlgorithm
 
-from sb3_pnn.dsac import DiscreteSAC
+from sb3_pnn.dsac.dsac import DiscreteSAC
 from sb3_pnn.progressive import make_sac_multi
 from sb3_pnn.zoo.tuning import build_space, make_converter, make_sampler
 

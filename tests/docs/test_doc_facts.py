@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from rov_envs.config import CONTROL_PERIOD, TIME_LIMIT_FACTOR, U_REF
+from rov_envs.sim.config import CONTROL_PERIOD, TIME_LIMIT_FACTOR, U_REF
 from sb3_pnn.reproduce.cli import make_parser
-from sb3_pnn.reproduce.plan import BUDGETS
+from sb3_pnn.reproduce.planning.plan import BUDGETS
 
 REPO = Path(__file__).resolve().parents[2]
 NUMBER = r"(\d[\d,]*(?:\.\d+)?)"

@@ -1,0 +1,1 @@
+"""What the algorithms, the evaluation and the commands share: argument checks and callbacks."""

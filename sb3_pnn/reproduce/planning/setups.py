@@ -1,0 +1,460 @@
+"""How the study trains its agents: the paper's literal set-up, ours, and the factors between them.
+
+The paper fixes the algorithm (discrete SAC, Tables 2-3) and the tasks, but some of what decides
+whether an agent learns is either left open (the control period, the obstacle-avoidance task,
+the thrust calibration) or stated twice in ways that disagree (Table 3 updates 10 times after each
+episode; section 3.2's text updates "at each step"). A :class:`TrainingSetup` names every such
+choice as one factor; :data:`PAPER` is the paper read literally and :data:`OURS` is the set-up
+the study uses by default, each departure measured by the ablation
+(:mod:`sb3_pnn.reproduce.ablation.catalog`, ``docs/ablation/report.md``).
+
+Factors:
+
+* ``vehicle``: the BlueROV2 parameter set (``rov_envs``' ``vehicle=``): ``"uuv_simulator"``,
+  the model of the paper's Gazebo set-up (section 4.1), or ``"wu2018"``.
+* ``control_period``: seconds per environment step (the paper does not give it).
+* ``updates``: ``"episode:N"``: N gradient steps of batch 256 after every episode (Table 3,
+  "Number of Samples per Episode 10"); ``"step:K"``: one gradient step every K environment
+  steps (K = 1 is section 3.2's "At each step, 256 samples ... are used to update").
+* ``prior_updates``: the update schedule of the source columns' runs (DiscreteSAC on the
+  path-following and obstacle-avoidance tasks), when it should differ from ``updates``
+  (empty: the same). A source column is trained once and reused by every agent and seed, so
+  more updates there cost little beside the transfer runs.
+* ``batch_size``: samples per gradient step (section 3.2: "256 samples ... are used to
+  update"); ``prior_batch_size``: that of the source columns' runs, when it should differ
+  (0: the same), as ``prior_updates`` is to ``updates``.
+* ``train_start_noise``: training episodes start from a perturbed pose (1 m, 5 deg, the
+  evaluation's noise) instead of the paper's exact start point (0, 0).
+* ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
+  paper's state is o = [a_c, g, d_1..d_q] (section 4.2.2).
+* ``success_reward``: reward on reaching the target (0 = eq. 17-21 literally).
+* ``progress_weighted``: r_c of eq. 18/19 is paid in proportion to progress along the path
+  (``progress_weighted=True``; not in the paper). Literally, eq. 18 pays about +1 per step near
+  the path whether the vehicle advances or not, so with gamma = 0.99 staying put in front of an
+  obstacle is worth more than passing it (measured: agents loiter to the time limit).
+* ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
+* ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
+  the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
+* ``pnn_lateral_init``: PNN's lateral connections (eq. 13) are scaled by a learned scalar per
+  lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
+  0 starts the new column as a network without priors (SAC-Single) that learns how much of the
+  prior's features to take. Only PNN runs read it. ``pnn_lateral_init_sine`` gives the sine
+  path a value of its own (``None``: ``pnn_lateral_init`` on both paths).
+* ``pnn_critic_priors``: on which planning paths PNN's critics (Q-networks) are progressive
+  columns that read the frozen prior's critic too, as Algorithm 1 transfers Q_theta along with
+  pi_phi (written for SPNN): ``"both"``, ``"straight"``, ``"sine"`` or ``"neither"`` (``--set``
+  also takes ``true`` for both and ``false`` for neither). Elsewhere the critics are plain
+  networks and only the actor reads the prior (``ProgressivePolicy(critic_priors=False)``), as
+  section 3.2 names only the policy pi_phi_lambda as PNN's first column. Only PNN runs read it.
+* ``pnn_start_as_prior``: on which planning paths (values as ``pnn_critic_priors``) the PNN's
+  networks start as their prior: before any update the actor outputs the prior's logits and
+  each critic that reads the prior's critic its Q-values; the new column's own output layer
+  starts at zero and the output laterals copy the prior's output layers
+  (``start_as_prior=True``, :meth:`sb3_pnn.progressive.columns.ProgressiveNet.start_as_priors_`).
+  Off: the new column starts at random, as in Rusu et al. (2016) and, by its silence, the paper.
+  SAC-Multi, the paper's other way to reuse the prior, starts from its weights too. Only PNN
+  runs read it. ``spnn_start_as_prior`` (a bool) does the same for the SPNN, whose output then
+  starts as the gate-selected prior's.
+* ``pnn_init_from_prior``: on which planning paths (values as ``pnn_critic_priors``) the PNN's
+  new column starts as a copy of the prior's column, actor from actor and critics from critics
+  (``init_from_prior=True``): section 3.1's "the parameters of the second column are usually
+  initialized with Theta^(1) or randomly"; section 3.2 and Rusu et al. (2016) start it at random
+  (off). With the laterals' scale at 0 the PNN then starts as SAC-Multi does, keeping the frozen
+  prior beside it. ``spnn_init_from_prior`` (values as ``pnn_critic_priors``) starts the SPNN's
+  new column as a copy of its first, the path-following, prior.
+* ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
+  after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
+  column while the nearest obstacle is nearer. Only SPNN runs read it.
+* ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
+  input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
+  With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
+  only. Only SPNN runs read them.
+* ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
+  (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
+  noise, seeds from :data:`sb3_pnn.common.callbacks.VALIDATION_SEED`, apart from the evaluation's),
+  as the RL Zoo's ``EvalCallback`` does; off: the policy at the end of the budget (the paper
+  does not say which policy it reports).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, fields, replace
+from typing import Any
+
+from rov_envs.physics.params import VEHICLES
+from sb3_pnn.common.checks import is_finite_number
+from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
+from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
+
+#: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
+#: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
+TRAIN_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
+#: Uniformly random steps before the first update, for every set-up and agent alike: one batch.
+LEARNING_STARTS = 256
+#: Training episodes between two validation checks, and episodes per check (``keep_best``).
+VALIDATION_EVERY = 25
+VALIDATION_EPISODES = 30
+
+
+def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
+    """``(train_freq, gradient_steps)`` of DiscreteSAC for an ``updates`` string."""
+    kind, _, number = str(updates).partition(":")
+    expected = '"episode:N" (N updates after each episode) or "step:K" (1 update every K steps)'
+    try:
+        n = int(number)
+    except ValueError:
+        n = 0
+    if kind not in ("episode", "step") or n < 1:
+        raise ValueError(f"updates={updates!r} is not allowed: expected {expected}, N, K >= 1")
+    if kind == "episode":
+        return (1, "episode"), n
+    return (n, "step"), 1
+
+
+@dataclass(frozen=True)
+class TrainingSetup:
+    """One value per factor (see the module docstring)."""
+
+    vehicle: str = "uuv_simulator"
+    control_period: float = 0.2
+    updates: str = "episode:10"
+    prior_updates: str = ""
+    batch_size: int = PAPER_BATCH_SIZE
+    prior_batch_size: int = 0
+    train_start_noise: bool = False
+    motion_obs: bool = False
+    success_reward: float = 0.0
+    progress_weighted: bool = False
+    net_arch: tuple[int, ...] = (255, 255)
+    target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
+    keep_best: bool = False
+    pnn_lateral_init: float = 1.0
+    pnn_lateral_init_sine: float | None = None
+    pnn_critic_priors: str = "both"
+    pnn_start_as_prior: str = "neither"
+    spnn_start_as_prior: bool = False
+    pnn_init_from_prior: str = "neither"
+    spnn_init_from_prior: str = "neither"
+    spnn_d_th: float = PAPER_D_TH
+    spnn_sigma: float = PAPER_SIGMA
+    spnn_own_weight: float = PAPER_OWN_WEIGHT
+
+    def __post_init__(self) -> None:
+        if self.vehicle not in VEHICLES:
+            raise ValueError(
+                f"vehicle={self.vehicle!r} is not allowed: expected one of {list(VEHICLES)}"
+            )
+        parse_updates(self.updates)
+        if self.prior_updates:
+            parse_updates(self.prior_updates)
+        for name, low in (("batch_size", 1), ("prior_batch_size", 0)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < low:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected an integer >= {low}"
+                    + (" (0: as batch_size)" if low == 0 else "")
+                )
+        if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
+            raise ValueError(
+                f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
+                "expected a number in (0, 1]"
+            )
+        if not float(self.spnn_d_th) > 0.0:
+            raise ValueError(
+                f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
+            )
+        for name in ("spnn_sigma", "spnn_own_weight"):
+            value = getattr(self, name)
+            if not is_finite_number(value) or value < 0:
+                raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
+        for name in PER_PATH_FACTORS:
+            value = getattr(self, name)
+            if isinstance(value, bool):  # --set pnn_critic_priors=true / false
+                object.__setattr__(self, name, "both" if value else "neither")
+            if getattr(self, name) not in PATH_CHOICES:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected one of "
+                    f"{list(PATH_CHOICES)} (or true / false)"
+                )
+        sine_init = self.pnn_lateral_init_sine
+        if sine_init is not None and not is_finite_number(sine_init):
+            raise ValueError(
+                f"pnn_lateral_init_sine={sine_init!r} is not allowed: expected a number, or None "
+                "for pnn_lateral_init's value"
+            )
+        if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
+            raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
+        object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
+
+    def env_kwargs(self) -> dict[str, Any]:
+        """Environment keyword arguments shared by training and evaluation."""
+        return {
+            "vehicle": self.vehicle,
+            "control_period": float(self.control_period),
+            "motion_obs": bool(self.motion_obs),
+            "success_reward": float(self.success_reward),
+            "progress_weighted": bool(self.progress_weighted),
+        }
+
+    def train_env_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of the training environment (start noise included)."""
+        noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
+        return {**self.env_kwargs(), "start_noise": list(noise)}
+
+    def on_path(self, name: str, path: str) -> bool:
+        """Whether the per-path factor ``name`` is on for planning path ``path``."""
+        if path not in PATH_CHOICES["both"]:
+            raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
+        return path in PATH_CHOICES[getattr(self, name)]
+
+    def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
+        """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
+        ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``);
+        ``agent="pnn"`` adds PNN's ``lateral_scale_init`` and, on planning path ``path``
+        (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
+        ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight`` and ``start_as_prior``."""
+        updates = self.prior_updates if prior and self.prior_updates else self.updates
+        train_freq, gradient_steps = parse_updates(updates)
+        kwargs: dict[str, Any] = {
+            "learning_starts": LEARNING_STARTS,
+            "train_freq": list(train_freq),
+            "gradient_steps": gradient_steps,
+            "policy_kwargs": {"net_arch": list(self.net_arch)},
+        }
+        batch_size = self.prior_batch_size if prior and self.prior_batch_size else self.batch_size
+        # Named only when it departs from DiscreteSAC's default, so that the specs (and result
+        # hashes) of runs made before this factor existed stay the same.
+        if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
+            kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
+        if batch_size != PAPER_BATCH_SIZE:
+            kwargs["batch_size"] = batch_size
+        for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
+            if agent == reader:
+                value, default = self._policy_value(name, path)
+                if value != default:
+                    kwargs["policy_kwargs"][key] = value
+        return kwargs
+
+    def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
+        """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
+        agent factor; those in :data:`PER_PATH_FACTORS` are per path, the others the same on
+        both paths, except ``pnn_lateral_init``, which ``pnn_lateral_init_sine`` (when set)
+        replaces on the sine path."""
+        if name == "pnn_lateral_init" and self.pnn_lateral_init_sine is not None:
+            if not path:
+                raise ValueError(
+                    f"pnn_lateral_init_sine={self.pnn_lateral_init_sine!r} depends on the path: "
+                    "expected path='straight' or 'sine'"
+                )
+            value = self.pnn_lateral_init_sine if path == "sine" else self.pnn_lateral_init
+            return float(value), _FIELD_DEFAULTS[name]
+        if name not in PER_PATH_FACTORS:
+            default = _FIELD_DEFAULTS[name]
+            return type(default)(getattr(self, name)), default
+        value, default = getattr(self, name), _FIELD_DEFAULTS[name] == "both"
+        if value in ("both", "neither"):
+            return value == "both", default
+        if not path:
+            raise ValueError(
+                f"{name}={value!r} depends on the path: expected path='straight' or 'sine'"
+            )
+        return self.on_path(name, path), default
+
+    def validation(self) -> dict[str, int]:
+        """How often and on how many episodes a run validates (empty: it keeps the last policy)."""
+        if not self.keep_best:
+            return {}
+        return {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
+
+    def to_dict(self) -> dict[str, Any]:
+        data = asdict(self)
+        data["net_arch"] = list(self.net_arch)
+        return data
+
+    def differences(self, other: TrainingSetup) -> dict[str, Any]:
+        """Factors whose value differs from ``other``'s: name -> this set-up's value."""
+        return {
+            f.name: getattr(self, f.name)
+            for f in fields(self)
+            if getattr(self, f.name) != getattr(other, f.name)
+        }
+
+    def with_(self, **changes: Any) -> TrainingSetup:
+        return replace(self, **changes)
+
+
+#: The values of a per-path factor (``pnn_critic_priors``, ...): value -> the
+#: planning paths on which it is on.
+PATH_CHOICES: dict[str, tuple[str, ...]] = {
+    "both": ("straight", "sine"),
+    "straight": ("straight",),
+    "sine": ("sine",),
+    "neither": (),
+}
+#: Factors whose value names the planning paths they are on for.
+PER_PATH_FACTORS: tuple[str, ...] = (
+    "pnn_critic_priors",
+    "pnn_start_as_prior",
+    "pnn_init_from_prior",
+    "spnn_init_from_prior",
+)
+
+#: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
+#: written into that agent's ``policy_kwargs`` only when it departs from its default (the
+#: paper's), so runs made before the factor existed keep their hash. (``pnn_lateral_init_sine``
+#: reaches the PNN through ``pnn_lateral_init``'s entry, :meth:`TrainingSetup._policy_value`.)
+AGENT_FACTORS: dict[str, tuple[str, str]] = {
+    "pnn_lateral_init": ("pnn", "lateral_scale_init"),
+    "pnn_critic_priors": ("pnn", "critic_priors"),
+    "pnn_start_as_prior": ("pnn", "start_as_prior"),
+    "spnn_start_as_prior": ("spnn", "start_as_prior"),
+    "pnn_init_from_prior": ("pnn", "init_from_prior"),
+    "spnn_init_from_prior": ("spnn", "init_from_prior"),
+    "spnn_d_th": ("spnn", "d_th"),
+    "spnn_sigma": ("spnn", "sigma"),
+    "spnn_own_weight": ("spnn", "own_weight"),
+}
+_FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
+
+#: The paper read literally: its vehicle, Table 3's update schedule, the exact start pose, the
+#: state [a_c, g, d_1..d_q], eq. 17-21 without a success reward, Table 2's [255, 255] networks;
+#: the control period it does not give is rov_envs' default.
+PAPER = TrainingSetup()
+
+#: The study's default set-up (each departure from PAPER is measured in docs/ablation/).
+OURS = TrainingSetup(
+    control_period=0.5,
+    updates="step:1",
+    train_start_noise=True,
+    motion_obs=True,
+    success_reward=200.0,
+    progress_weighted=True,
+    net_arch=(64, 64),
+    keep_best=True,
+    pnn_lateral_init=0.0,
+    pnn_lateral_init_sine=1.0,
+    pnn_critic_priors="straight",
+    pnn_start_as_prior="straight",
+    spnn_start_as_prior=True,
+    spnn_sigma=1.0,
+    spnn_own_weight=1.0,
+)
+
+SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
+
+#: Human-readable factor names (report tables).
+FACTOR_LABELS: dict[str, str] = {
+    "vehicle": "vehicle",
+    "control_period": "control period (s)",
+    "updates": "update schedule",
+    "prior_updates": "update schedule of the source columns",
+    "batch_size": "samples per update",
+    "prior_batch_size": "samples per update of the source columns",
+    "train_start_noise": "training start noise",
+    "motion_obs": "v, r observed",
+    "success_reward": "success reward",
+    "progress_weighted": "r_c weighted by progress",
+    "net_arch": "hidden layers",
+    "target_entropy_ratio": "target entropy / ln(number of actions)",
+    "keep_best": "best policy on validation episodes kept",
+    "pnn_lateral_init": "PNN lateral scale at the start",
+    "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
+    "pnn_critic_priors": "PNN critics read the prior's critic",
+    "pnn_start_as_prior": "PNN starts as its prior",
+    "spnn_start_as_prior": "SPNN starts as its selected prior",
+    "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
+    "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
+    "spnn_d_th": "SPNN switch distance d_th (m)",
+    "spnn_sigma": "SPNN weight sigma of the selected prior's input",
+    "spnn_own_weight": "SPNN weight tau of the new column's own input",
+}
+
+
+def path_of_env(env_id: str) -> str:
+    """The path kind of an rov_envs task, ``"straight"`` or ``"sine"`` (which the per-path
+    factors read), from its id, e.g. ``"rov_envs/PlanningSineDense-v0"`` -> ``"sine"``."""
+    from rov_envs.sim.tasks import PATH_SINE, task_of_env
+
+    return "sine" if task_of_env(env_id).path_kind == PATH_SINE else "straight"
+
+
+def describe_value(name: str, value: Any) -> str:
+    """A factor value as the report prints it."""
+    if name == "prior_updates" and not value:
+        return "as the update schedule"
+    if name == "prior_batch_size" and not value:
+        return "as the samples per update"
+    if name == "pnn_lateral_init_sine" and value is None:
+        return "as on the straight path"
+    if name in ("updates", "prior_updates"):
+        (freq, unit), steps = parse_updates(value)
+        if unit == "episode":
+            return f"{steps} per episode"
+        return "1 per step" if freq == 1 else f"1 per {freq} steps"
+    if name == "net_arch":
+        return "[" + ", ".join(str(w) for w in value) + "]"
+    if name in PER_PATH_FACTORS:
+        return {"both": "on", "neither": "off"}.get(value, f"on the {value} path only")
+    if isinstance(value, bool):
+        return "on" if value else "off"
+    if name == "success_reward":
+        return f"{value:g}"
+    return str(value)
+
+
+def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
+    """``["factor=value", ...]`` (the ``--set`` options) as ``{factor: value}``.
+
+    A value is read as JSON (``keep_best=false``, ``net_arch=[128,128]``, ``control_period=0.2``)
+    or else taken as a string (``updates=step:4``; ``on`` / ``off`` for a switch, as in the
+    ablation's cell names), and must have the type of the factor's value
+    in :data:`PAPER`. Raises ValueError naming the bad item and what was expected; the values
+    themselves are then checked by :class:`TrainingSetup`.
+    """
+    changes: dict[str, Any] = {}
+    known = [f.name for f in fields(TrainingSetup)]
+    for item in items:
+        name, sep, text = str(item).partition("=")
+        if not sep or name not in known:
+            raise ValueError(
+                f"--set {item!r} is not allowed: expected factor=value with factor one of {known}"
+            )
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        default = getattr(PAPER, name)
+        if isinstance(default, tuple):
+            ok = isinstance(value, list) and all(
+                isinstance(w, int) and not isinstance(w, bool) for w in value
+            )
+            value = tuple(value) if ok else value
+        elif isinstance(default, bool):  # JSON true / false, or the ablation's words on / off
+            value = (
+                {"on": True, "off": False}.get(value, value) if isinstance(value, str) else value
+            )
+            ok = isinstance(value, bool)
+        elif isinstance(default, float):
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            value = float(value) if ok else value
+        elif isinstance(default, int):
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        elif default is None:  # a number, or null for "as the factor it refines"
+            ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
+            value = float(value) if ok and value is not None else value
+        elif name in PER_PATH_FACTORS:  # a path name, or true / false for both / neither
+            ok = isinstance(value, (str, bool))
+        else:
+            ok = isinstance(value, str)
+        if not ok:
+            example = json.dumps(list(default) if isinstance(default, tuple) else default)
+            if default is None:
+                example = "1.0 (a number, or null)"
+            raise ValueError(
+                f"--set {item!r} is not allowed: expected a value like {name}={example}"
+            )
+        changes[name] = value
+    return changes

@@ -1,0 +1,160 @@
+"""Adopt finished runs of an older study folder into a new one.
+
+Runs finished before the configuration hash included ``rov_envs.sim.tasks.TASKS_REVISION`` carry a
+*legacy* hash (the same SHA-256 of the run's spec, without the revision), which today's study
+refuses: the hash alone cannot tell which task definitions they were trained on. Someone who
+knows (from the commit that made them) states it with ``--made-with-tasks-revision``; a run is
+then copied into the new folder only when
+
+* its stored spec equals, field for field, the spec the new study plans under that run id, and
+* its stored hash is the legacy hash of that spec (or already today's hash),
+
+and the stated revision is today's. Its manifest keeps the legacy hash and the stated revision
+under ``adopted``, so report readers can see which runs were adopted. Nothing is retrained or
+changed otherwise; runs that do not match are listed with the reason and left to the study.
+
+Usage (the study's own arguments after ``--``, as for ``python -m sb3_pnn.reproduce``)::
+
+    python -m sb3_pnn.reproduce.running.adopt --from OLD --made-with-tasks-revision 2 -- \
+        --seeds 5 --set updates=step:4 --out NEW
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from sb3_pnn.reproduce.planning.plan import RunSpec, json_hash
+from sb3_pnn.reproduce.running.store import MANIFEST, RunStore, write_json_atomic
+
+
+def legacy_hash(spec: RunSpec) -> str:
+    """The configuration hash runs had before it included the tasks' revision."""
+    return json_hash(spec.to_dict())
+
+
+def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
+    if old is None:
+        return "not in the old folder"
+    if old.get("status", "done") != "done":
+        return f"status {old.get('status')!r}"
+    stored, planned = old.get("spec") or {}, spec.to_dict()
+    if stored != planned:
+        changed = sorted(
+            k for k in stored.keys() | planned.keys() if stored.get(k) != planned.get(k)
+        )
+        return f"spec differs in {', '.join(changed)}"
+    if old.get("config_hash") not in (legacy_hash(spec), spec.config_hash()):
+        return f"stored hash {old.get('config_hash')} is neither the legacy nor today's hash"
+    return None
+
+
+def check_revision(revision: int) -> None:
+    """ValueError unless ``revision`` is today's ``TASKS_REVISION``."""
+    from rov_envs.sim.tasks import TASKS_REVISION
+
+    if revision != TASKS_REVISION:
+        raise ValueError(
+            f"--made-with-tasks-revision {revision}: today's task definitions are revision "
+            f"{TASKS_REVISION}; runs made with other definitions cannot be adopted"
+        )
+
+
+def adopt_runs(
+    old_out: Path, store: RunStore, plan: Sequence[RunSpec], revision: int
+) -> tuple[list[str], dict[str, str]]:
+    """Copy the matching finished runs of ``old_out`` into ``store``.
+
+    Returns (adopted run ids, {run id: why it was not adopted}).
+    """
+    check_revision(revision)
+    old_store = RunStore(old_out)
+    adopted: list[str] = []
+    skipped: dict[str, str] = {}
+    for spec in plan:
+        if store.run_dir(spec.run_id).exists():
+            skipped[spec.run_id] = "already in the new folder"
+            continue
+        old = old_store.manifest(spec.run_id)
+        why = _why_not(old, spec)
+        if why is not None:
+            skipped[spec.run_id] = why
+            continue
+        assert old is not None
+        tmp = store.begin(spec)
+        for item in old_store.run_dir(spec.run_id).iterdir():
+            if item.name != MANIFEST:
+                copy = shutil.copytree if item.is_dir() else shutil.copy2
+                copy(item, tmp / item.name)
+        note = {
+            "from": str(old_out.resolve() / "runs" / spec.run_id),
+            "stored_hash": old["config_hash"],
+            "stated_tasks_revision": revision,
+        }
+        if store.commit(spec, tmp, {**old, "adopted": note}):
+            adopted.append(spec.run_id)
+        else:
+            skipped[spec.run_id] = "appeared in the new folder meanwhile"
+    return adopted, skipped
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    from sb3_pnn.reproduce.cli import SESSIONS, out_folder, parse_study_args
+    from sb3_pnn.reproduce.planning.plan import build_plan
+    from sb3_pnn.reproduce.running.store import open_store_or_exit
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    cut = argv.index("--") if "--" in argv else len(argv)
+    own, study = argv[:cut], argv[cut + 1 :]
+    parser = argparse.ArgumentParser(
+        prog="python -m sb3_pnn.reproduce.running.adopt",
+        description=__doc__.split("\n\n")[0],
+        epilog="The study's own arguments follow '--' (python -m sb3_pnn.reproduce --help).",
+    )
+    parser.add_argument("--from", dest="old", required=True, help="the older study folder")
+    parser.add_argument(
+        "--made-with-tasks-revision",
+        type=int,
+        required=True,
+        help="the TASKS_REVISION of the code that made the old runs (from its commit)",
+    )
+    args = parser.parse_args(own)
+    study_parser, study_args, config = parse_study_args(study)
+    old = Path(args.old)
+    if not (old / "runs").is_dir():
+        parser.error(f"--from {args.old!r} is not a study folder (it has no runs/)")
+    out = out_folder(study_args)
+    if out.resolve() == old.resolve():
+        parser.error("--from and --out are the same folder")
+    try:  # before the new folder is created
+        check_revision(args.made_with_tasks_revision)
+    except ValueError as error:
+        parser.error(str(error))
+    store = open_store_or_exit(study_parser, out)
+    try:
+        adopted, skipped = adopt_runs(old, store, build_plan(config), args.made_with_tasks_revision)
+    finally:
+        store.close()
+    if adopted and (old / SESSIONS).is_file():
+        # The old invocations' wall clock belongs to the adopted runs' cost. Adopting from a
+        # second folder adds its invocations that the new folder does not list yet (a folder
+        # that itself adopted from the first one lists the first one's too).
+        known = json.loads((out / SESSIONS).read_text()) if (out / SESSIONS).exists() else []
+        seen = {s.get("started") for s in known}
+        sessions = json.loads((old / SESSIONS).read_text())
+        added = [{**s, "adopted_from": str(old)} for s in sessions if s.get("started") not in seen]
+        if added:
+            write_json_atomic(out / SESSIONS, known + added)
+    print(f"adopted {len(adopted)} run(s) from {old} into {out}: {', '.join(adopted) or '-'}")
+    for run_id, why in skipped.items():
+        print(f"  not adopted: {run_id}: {why}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,148 @@
+"""The work of one run of the study: train (DiscreteSAC, SAC-Multi, PNN or SPNN) and evaluate.
+
+:func:`run_work` is what :func:`sb3_pnn.reproduce.running.executor.run_one` calls in a worker
+process.
+It writes into the run's temporary folder:
+
+* ``model.zip``: the final policy (SB3 format; PNN/SPNN models are self-contained, their prior
+  weights are inside), for ``prior`` and ``transfer`` runs;
+* ``validation.json``: when the run keeps its best policy (``spec.validation``), the
+  validation checks and the training episode whose policy was kept (and saved as model.zip);
+* ``episodes.json``: per training episode return, length, success and end reason
+  (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
+  training episodes (key ``ep_<index>``, arrays (T, 2));
+* ``eval.json``: for every run with evaluation tasks (all of them in the study), one
+  :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
+  ``eval_episodes`` episodes with seeds ``EVAL_SEED + i`` (the same episodes for every policy)
+  and the evaluation library's default start-pose noise.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from sb3_pnn.reproduce.planning.plan import AGENT_LABELS, RunSpec
+
+#: First evaluation seed (training seeds are 0..seeds-1; evaluation episodes are others).
+EVAL_SEED = 10_000
+#: ``learn()`` is stopped by the episode budget, never by this step count.
+MAX_STEPS = 10**9
+
+
+def build_model(spec: RunSpec, deps: dict[str, Path]) -> Any:
+    """The DiscreteSAC model of ``spec`` on a fresh single environment."""
+    import gymnasium as gym
+
+    import rov_envs  # noqa: F401 - registers the tasks
+    from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy, make_sac_multi
+
+    if spec.env_id is None:
+        raise ValueError(f"run {spec.run_id!r} has no environment")
+    env = gym.make(spec.env_id, **spec.env_kwargs)
+    priors = [str(deps[d] / "model.zip") for d in spec.deps]
+    sac_kwargs = dict(spec.sac_kwargs)
+    if "train_freq" in sac_kwargs:  # JSON holds the (frequency, unit) pair as a list
+        sac_kwargs["train_freq"] = tuple(sac_kwargs["train_freq"])
+    policy_kwargs = dict(sac_kwargs.pop("policy_kwargs", None) or {})
+    common: dict[str, Any] = dict(seed=spec.seed, verbose=0, device="cpu", **sac_kwargs)
+    if spec.agent in ("dsac", "sac_single"):
+        return DiscreteSAC("MultiInputPolicy", env, policy_kwargs=policy_kwargs, **common)
+    if spec.agent == "sac_multi":
+        # the networks are the prior's (make_sac_multi refuses a net_arch of its own)
+        policy_kwargs.pop("net_arch", None)
+        return make_sac_multi(priors[0], env, policy_kwargs=policy_kwargs, **common)
+    if spec.agent == "pnn":
+        policy_kwargs["priors"] = priors
+        return DiscreteSAC(ProgressivePolicy, env, policy_kwargs=policy_kwargs, **common)
+    if spec.agent == "spnn":
+        policy_kwargs.update(priors=priors, sonar_range=float(env.unwrapped.sonar_range))
+        return DiscreteSAC(SelectivePolicy, env, policy_kwargs=policy_kwargs, **common)
+    raise ValueError(f"agent {spec.agent!r} of run {spec.run_id!r} is unknown")
+
+
+def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[str, Any]]:
+    """Train for ``spec.episodes`` episodes; save model, episode records and trajectories."""
+    from stable_baselines3.common.callbacks import CallbackList
+
+    from sb3_pnn.common.callbacks import KeepBestOnValidation
+    from sb3_pnn.reproduce.running.recorder import EpisodeRecorder
+
+    model = build_model(spec, deps)
+    recorder = EpisodeRecorder(spec.episodes, spec.record_episodes)
+    callbacks: list[Any] = [recorder]
+    keeper = None
+    if spec.validation:
+        # the training task as evaluated: the training kwargs without the training start noise
+        # (validation applies the evaluation's own)
+        env_kwargs = {k: v for k, v in spec.env_kwargs.items() if k != "start_noise"}
+        keeper = KeepBestOnValidation(
+            str(spec.env_id),
+            every=int(spec.validation["every"]),
+            n_episodes=int(spec.validation["episodes"]),
+            env_kwargs=env_kwargs,
+        )
+        callbacks.append(keeper)
+    start = time.time()
+    model.learn(total_timesteps=MAX_STEPS, callback=CallbackList(callbacks), progress_bar=False)
+    train_s = time.time() - start
+    if keeper is not None:
+        keeper.restore()
+        (tmp / "validation.json").write_text(json.dumps(keeper.to_dict()))
+    model.save(tmp / "model.zip")
+    (tmp / "episodes.json").write_text(json.dumps(recorder.to_dict()))
+    np.savez_compressed(
+        tmp / "trajectories.npz", **{f"ep_{i}": t for i, t in recorder.trajectories.items()}
+    )
+    successes = recorder.successes
+    info = {
+        "train_s": train_s,
+        "timesteps": int(model.num_timesteps),
+        "episodes": len(recorder.returns),
+        "train_successes": int(sum(successes)),
+        "first_success": successes.index(True) if True in successes else None,
+    }
+    if keeper is not None:
+        info["kept_episode"] = keeper.best_episode
+    return model, info
+
+
+def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:
+    """Evaluate ``policy`` (a model or a baseline name) on ``spec.eval_tasks``; save eval.json."""
+    from sb3_pnn.evaluation import evaluate_policy_on_task
+
+    results: dict[str, Any] = {}
+    start = time.time()
+    for label, env_id, env_kwargs in spec.eval_tasks:
+        result = evaluate_policy_on_task(
+            policy,
+            env_id,
+            n_episodes=spec.eval_episodes,
+            seed=EVAL_SEED,
+            env_kwargs=dict(env_kwargs) or None,
+            record_trajectories=spec.trace_episodes,
+            policy_name=AGENT_LABELS.get(spec.agent, spec.agent),
+        )
+        results[label] = result.to_dict()
+    (tmp / "eval.json").write_text(json.dumps(results))
+    return {
+        "eval_s": time.time() - start,
+        "success_rates": {label: r["success_rate"] for label, r in results.items()},
+    }
+
+
+def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
+    """Train and/or evaluate one run (see the module docstring); returns manifest fields."""
+    info: dict[str, Any] = {"kind": spec.kind, "agent": spec.agent}
+    if spec.kind == "baseline":
+        info.update(evaluate(spec, spec.agent, tmp))
+        return info
+    model, train_info = train(spec, tmp, deps)
+    info.update(train_info)
+    if spec.eval_tasks:
+        info.update(evaluate(spec, model, tmp))
+    return info

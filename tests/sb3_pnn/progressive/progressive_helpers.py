@@ -1,0 +1,49 @@
+"""Toy ROV-like environment for the progressive tests (rov_envs' observation keys)."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+SONAR_RANGE = 25.0
+PATH = spaces.Box(-1.0, 1.0, (2,), np.float32)
+SONAR = spaces.Box(0.0, 1.0, (9,), np.float32)
+
+
+class ToyRovEnv(gym.Env):
+    """Dict observations with rov_envs' keys; reward 1 for action 2; 20-step episodes."""
+
+    def __init__(self, keys: tuple[str, ...] = ("path", "sonar"), extra: dict | None = None):
+        parts = {"path": PATH, "sonar": SONAR, **(extra or {})}
+        self.observation_space = spaces.Dict({k: parts[k] for k in keys})
+        self.action_space = spaces.Discrete(5)
+        self.sonar_range = SONAR_RANGE
+        self._t = 0
+
+    def reset(self, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        self.observation_space.seed(seed)
+        self._t = 0
+        return self.observation_space.sample(), {}
+
+    def step(self, action):
+        self._t += 1
+        done = self._t >= 20
+        info = {"is_success": True} if done else {}
+        return self.observation_space.sample(), float(action == 2), done, False, info
+
+
+def toy_model(policy_class, policy_kwargs: dict, **kwargs):
+    """A DiscreteSAC on :class:`ToyRovEnv` with a small buffer and batch (``kwargs`` override)."""
+    from sb3_pnn import DiscreteSAC
+
+    options = dict(learning_starts=20, buffer_size=1000, batch_size=16, seed=0)
+    options.update(kwargs)
+    return DiscreteSAC(policy_class, ToyRovEnv(), policy_kwargs=policy_kwargs, **options)
+
+
+def batch(space: spaces.Dict, n: int, seed: int = 0) -> dict[str, np.ndarray]:
+    space.seed(seed)
+    samples = [space.sample() for _ in range(n)]
+    return {k: np.stack([s[k] for s in samples]) for k in space.spaces}

@@ -1,0 +1,161 @@
+"""SPNN (eq. 15): a per-sample gate on the sonar distance in actor and critics; other gates."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch as th
+from progressive_helpers import SONAR_RANGE, ToyRovEnv, batch, toy_model
+from stable_baselines3.common.logger import KVWriter, Logger
+
+from sb3_pnn import DiscreteSAC, SelectivePolicy
+
+D_TH = 12.5
+# nearest obstacle of each sample, metres: far, near, exactly d_th (near: d <= d_th), far, near
+DISTANCES = np.array([13.0, 12.0, D_TH, 24.0, 0.5])
+NEAR = th.tensor([False, True, True, False, True])
+
+
+def _model(paths, **kwargs):
+    kw = dict(priors=[paths["pf_dsac"], paths["oa_dsac"]], net_arch=[16, 16])
+    kw.update(kwargs)
+    return toy_model(SelectivePolicy, kw)
+
+
+def _obs(policy):
+    obs = batch(policy.observation_space, len(DISTANCES), seed=3)
+    sonar = np.ones_like(obs["sonar"])
+    sonar[np.arange(len(DISTANCES)), np.arange(len(DISTANCES)) % 9] = DISTANCES / SONAR_RANGE
+    obs["sonar"] = sonar.astype(np.float32)
+    return policy.obs_to_tensor(obs)[0]
+
+
+def _perturb(column):
+    with th.no_grad():
+        for buf in column.buffers():
+            buf.add_(0.3)
+
+
+def test_hard_gate_picks_the_column_by_distance_within_one_batch(priors):
+    policy = _model(priors).policy
+    obs = _obs(policy)
+    expected = th.stack([(~NEAR).float(), NEAR.float()], dim=1)
+    assert th.equal(policy.gate_weights(obs), expected)
+    with th.no_grad():
+        logits, q = policy.actor(obs), policy.critic(obs)
+        for j, rows_of_column in ((0, ~NEAR), (1, NEAR)):
+            saved = {k: v.clone() for k, v in policy.state_dict().items()}
+            _perturb(policy.actor.net.priors[j])
+            for q_net in policy.critic.q_networks:
+                _perturb(q_net.priors[j])
+            changed = (policy.actor(obs) != logits).any(dim=1)
+            assert th.equal(changed, rows_of_column), (j, changed)
+            for q_new, q_old in zip(policy.critic(obs), q, strict=True):
+                assert th.equal((q_new != q_old).any(dim=1), rows_of_column)
+            policy.load_state_dict(saved)
+
+
+def test_soft_gate_tends_to_the_hard_gate(priors):
+    hard = _model(priors).policy
+    obs = _obs(hard)
+    with th.no_grad():
+        ref = hard.actor(obs)
+        ref_q = hard.critic(obs)
+        for temperature, close in ((1e-3, True), (5.0, False)):
+            soft = _model(priors, gate="soft", temperature=temperature).policy
+            soft.load_state_dict(hard.state_dict())
+            out = soft.actor(obs)
+            off = th.from_numpy(~np.isclose(DISTANCES, D_TH))  # at d_th soft gives 0.5
+            assert th.allclose(out[off], ref[off], atol=1e-5) is close
+            if close:
+                assert th.allclose(soft.critic(obs)[0][off], ref_q[0][off], atol=1e-5)
+                g = soft.gate_weights(obs)
+                assert th.allclose(g[~off], th.full((1, 2), 0.5))
+
+
+def test_learned_gate_is_a_trained_softmax(priors):
+    model = _model(priors, gate="learned")
+    policy = model.policy
+    g = policy.gate_weights(_obs(policy))
+    assert th.all(g > 0) and th.allclose(g.sum(dim=1), th.ones(len(DISTANCES)))
+    gate_params = list(policy.actor.gate.parameters())
+    optimized = {id(p) for grp in policy.actor.optimizer.param_groups for p in grp["params"]}
+    assert gate_params and all(id(p) in optimized for p in gate_params)
+    before = [p.detach().clone() for p in gate_params]
+    model.learn(60)
+    assert any(not th.equal(a, b) for a, b in zip(before, gate_params, strict=True))
+
+
+def test_lead_shares_are_logged_and_reset(priors):
+    policy = _model(priors).policy
+    obs = {k: v.cpu().numpy() for k, v in _obs(policy).items()}
+    policy.predict(obs, deterministic=True)
+    logs = policy.extra_logs()
+    assert logs == {
+        "gate/step_share_path_following": pytest.approx(2 / 5),
+        "gate/step_share_obstacle_avoidance": pytest.approx(3 / 5),
+    }
+    assert policy.extra_logs() == {}
+
+
+def test_paper_defaults_and_argument_names(priors):
+    policy = _model(priors).policy
+    assert (policy.sigma, policy.own_weight, policy.d_th) == (0.5, 0.5, 12.5)
+    assert policy.sonar_range == 25.0 and policy.gate == "hard"
+    assert not any(n.endswith("lateral_scale") for n, _ in policy.named_parameters())
+
+
+def test_refuses_wrong_prior_count_and_missing_sonar(priors):
+    with pytest.raises(ValueError, match="exactly two priors"):
+        _model(priors, priors=[priors["pf_dsac"]])
+    with pytest.raises(ValueError, match="'sonar' key"):
+        DiscreteSAC(
+            SelectivePolicy,
+            ToyRovEnv(("path",)),
+            policy_kwargs=dict(priors=[priors["pf_dsac"], priors["pf_dsac"]]),
+        )
+    with pytest.raises(ValueError, match="gate must be one of"):
+        _model(priors, gate="fuzzy")
+
+
+@pytest.mark.parametrize(
+    "name, value",
+    [("sigma", float("nan")), ("own_weight", float("inf")), ("d_th", -1.0), ("sigma", True)],
+)
+def test_refuses_eq15_weights_that_are_not_finite_numbers(priors, name, value):
+    with pytest.raises(ValueError, match=f"{name} must be a finite number >= 0, got {value!r}"):
+        _model(priors, **{name: value})
+
+
+def test_refuses_swapped_priors_naming_which_file_is_which(priors):
+    with pytest.raises(ValueError) as info:
+        _model(priors, priors=[priors["oa_dsac"], priors["pf_dsac"]])
+    message = str(info.value)
+    assert "priors are swapped: 'oa_dsac.zip' observes 'sonar'" in message
+    assert "'pf_dsac.zip' does not (a path-following column)" in message
+    assert "expected [path_following_zip, obstacle_avoidance_zip], i.e. ['pf_dsac.zip'" in message
+
+
+class _Capture(KVWriter):
+    def __init__(self):
+        self.records: list[dict] = []
+
+    def write(self, key_values, key_excluded, step=0):
+        self.records.append(dict(key_values))
+
+
+def test_gate_shares_reach_the_training_logs(priors):
+    model = _model(priors)
+    capture = _Capture()
+    model.set_logger(Logger(None, [capture]))
+    model.learn(80, log_interval=1)
+    keys = set().union(*capture.records)
+    for name in ("path_following", "obstacle_avoidance"):
+        assert f"train/gate/batch_share_{name}" in keys
+        assert f"train/gate/step_share_{name}" in keys
+    shares = [
+        r["train/gate/batch_share_path_following"] + r["train/gate/batch_share_obstacle_avoidance"]
+        for r in capture.records
+        if "train/gate/batch_share_path_following" in r
+    ]
+    assert shares and all(s == pytest.approx(1.0) for s in shares)

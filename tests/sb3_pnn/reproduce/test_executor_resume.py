@@ -1,0 +1,154 @@
+"""Parallel execution in dependency order, resume after an interruption, failures."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from reproduce_helpers import failing_prior_work, fake_work
+
+from sb3_pnn.reproduce.cli import main
+from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.running.executor import execute
+from sb3_pnn.reproduce.running.store import RunStore
+
+HERE = Path(__file__).parent
+
+
+def _snapshot(out: Path) -> dict[str, tuple[float, str]]:
+    """run id -> (manifest mtime, manifest text) of the finished runs."""
+    return {
+        d.name: ((d / "manifest.json").stat().st_mtime_ns, (d / "manifest.json").read_text())
+        for d in (out / "runs").iterdir()
+        if not d.name.startswith(".")
+    }
+
+
+def test_interrupted_study_resumes_without_redoing_runs(tmp_path) -> None:
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    store = RunStore(tmp_path)
+    store.open()
+    first = execute(plan, store, fake_work, jobs=2, quiet=True, max_new_runs=5)
+    store.close()
+    assert len(first.done) == 5 and not first.failed
+    before = _snapshot(tmp_path)
+    assert set(before) == set(first.done)
+
+    store = RunStore(tmp_path)
+    store.open()
+    second = execute(plan, store, fake_work, jobs=2, quiet=True)
+    store.close()
+    assert sorted(second.skipped_finished) == sorted(first.done)
+    assert set(second.done).isdisjoint(first.done)
+    assert len(second.done) + len(first.done) == len(plan)
+    after = _snapshot(tmp_path)
+    for run_id, value in before.items():
+        assert after[run_id] == value  # not redone, not rewritten
+
+
+def test_failed_prior_blocks_its_dependents_and_is_retried(tmp_path) -> None:
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    store = RunStore(tmp_path)
+    store.open()
+    summary = execute(plan, store, failing_prior_work, jobs=2, quiet=True)
+    assert list(summary.failed) == ["prior-pf_straight-s0"]
+    straight_learners = {s.run_id for s in plan if s.path == "straight" and s.deps}
+    assert set(summary.blocked) == straight_learners
+    assert "stand-in failure" in store.failures()["prior-pf_straight-s0"]["error"]
+    again = execute(plan, store, fake_work, jobs=2, quiet=True)
+    assert sorted(again.done) == sorted(["prior-pf_straight-s0", *straight_learners])
+    assert store.failures() == {}
+    store.close()
+
+
+def test_bad_jobs(tmp_path) -> None:
+    store = RunStore(tmp_path)
+    with pytest.raises(ValueError, match="jobs=0"):
+        execute([], store, fake_work, jobs=0)
+
+
+def _study_args(out: Path) -> list[str]:
+    return ["--tiny", "--seeds", "1", "--jobs", "2", "--no-progress", "--out", str(out)]
+
+
+def _start_study_and_wait_for_runs(out: Path, n_runs: int = 3) -> subprocess.Popen:
+    """A stand-in study (0.4 s per run) in a process group of its own, once ``n_runs`` of its
+    runs are finished (the test fails after 60 s); the caller signals the group."""
+    code = (
+        f"import sys; sys.path.insert(0, {str(HERE)!r}); "
+        "from reproduce_helpers import fake_work; from sb3_pnn.reproduce.cli import main; "
+        f"sys.exit(main({_study_args(out)!r}, work=fake_work))"
+    )
+    env = {**os.environ, "REPRODUCE_STANDIN_SLEEP": "0.4"}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code],
+        env=env,
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.time() + 60
+    runs = out / "runs"
+    while time.time() < deadline:
+        if runs.is_dir() and sum(1 for d in runs.iterdir() if not d.name.startswith(".")) >= n_runs:
+            return proc
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    pytest.fail(f"the study did not finish {n_runs} runs within 60 s")
+
+
+def test_killed_study_resumes(tmp_path) -> None:
+    """Kill a running study (process group, SIGKILL) and finish it with a second call."""
+    out = tmp_path / "study"
+    proc = _start_study_and_wait_for_runs(out)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()
+    time.sleep(0.5)  # let orphaned workers (if any) notice
+    before = _snapshot(out)
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    assert 3 <= len(before) < len(plan)
+    store = RunStore(out)
+    store.open()
+    summary = execute(plan, store, fake_work, jobs=2, quiet=True)
+    store.close()
+    assert not summary.failed and len(summary.done) == len(plan) - len(before)
+    after = _snapshot(out)
+    assert len(after) == len(plan)
+    for run_id, value in before.items():
+        assert after[run_id] == value
+    assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
+
+
+def test_ctrl_c_records_the_session_and_the_same_command_resumes(tmp_path) -> None:
+    """Ctrl-C (SIGINT to the process group, as a terminal sends it) ends the invocation with
+    exit code 130 and a session marked stopped; the same command then finishes the study."""
+    out = tmp_path / "study"
+    proc = _start_study_and_wait_for_runs(out)
+    try:
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, err
+    assert "stopped after" in err and "the same command resumes" in err
+    sessions = json.loads((out / "sessions.json").read_text())
+    assert len(sessions) == 1 and sessions[0]["stopped"] is True
+    assert sessions[0]["runs_done"] >= 3 and "stopped by the user" in sessions[0]["note"]
+    assert not (out / "report.md").exists()
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    assert main(_study_args(out), work=fake_work) == 0
+    sessions = json.loads((out / "sessions.json").read_text())
+    assert len(sessions) == 2 and "stopped" not in sessions[1]
+    assert len(_snapshot(out)) == len(plan)
+    assert "stopped" in (out / "report.md").read_text()  # the report names the stopped session
+    assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]

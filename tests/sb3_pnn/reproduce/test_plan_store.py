@@ -1,0 +1,128 @@
+"""The plan (runs, dependencies, budgets) and the run store (atomic commits, conflicts, lock)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.running.store import RunStore, StudyConflictError
+
+
+def test_plan_has_every_run_and_deps_come_first() -> None:
+    plan = build_plan(StudyConfig(budget_name="full", seeds=5))
+    ids = [s.run_id for s in plan]
+    assert len(set(ids)) == len(ids)
+    kinds = [s.kind for s in plan]
+    assert kinds.count("prior") == 3  # shared priors: pf_straight, pf_sine, oa
+    assert kinds.count("transfer") == 4 * 2 * 5
+    assert kinds.count("baseline") == 2 * 2
+    seen: set[str] = set()
+    for spec in plan:
+        assert set(spec.deps) <= seen, spec.run_id
+        seen.add(spec.run_id)
+    spnn = next(s for s in plan if s.run_id == "spnn-sine-s3")
+    assert spnn.deps == ("prior-pf_sine-s0", "prior-oa-s0")
+    assert {label for label, _, _ in spnn.eval_tasks} == {"original", "path_following", "dense"}
+
+
+def test_prior_per_seed_and_recorded_episodes_inside_budget() -> None:
+    plan = build_plan(StudyConfig(budget_name="full", seeds=2, prior_per_seed=True, episodes=200))
+    assert sum(s.kind == "prior" for s in plan) == 6
+    pnn = next(s for s in plan if s.run_id == "pnn-straight-s1")
+    assert pnn.deps == ("prior-pf_straight-s1",)
+    assert pnn.episodes == 200
+    assert pnn.record_episodes == (0, 80, 150, 199)  # paper's episodes < 200, then the last
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [({"seeds": 0}, "seeds=0"), ({"seeds": -2}, "seeds=-2"), ({"episodes": 0}, "episodes=0"),
+     ({"budget_name": "huge"}, "huge")],
+)  # fmt: skip
+def test_bad_study_config(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        StudyConfig(**kwargs)
+
+
+def test_config_hash_changes_with_the_budget() -> None:
+    def pnn(config: StudyConfig):
+        return next(s for s in build_plan(config) if s.run_id == "pnn-straight-s0")
+
+    a = pnn(StudyConfig(budget_name="quick", seeds=1))
+    b = pnn(StudyConfig(budget_name="quick", seeds=1, episodes=7))
+    assert a.config_hash() != b.config_hash()
+    assert a.config_hash() == pnn(StudyConfig(budget_name="quick", seeds=3)).config_hash()
+
+
+def test_config_hash_changes_with_the_task_revision(monkeypatch) -> None:
+    """Runs stored before a task's definition changed are not taken for current ones."""
+    import rov_envs.sim.tasks
+
+    spec = build_plan(StudyConfig(budget_name="quick", seeds=1))[0]
+    before = spec.config_hash()
+    monkeypatch.setattr(rov_envs.sim.tasks, "TASKS_REVISION", rov_envs.sim.tasks.TASKS_REVISION + 1)
+    assert spec.config_hash() != before
+
+
+def test_commit_is_atomic_and_never_overwrites(tmp_path) -> None:
+    spec = build_plan(StudyConfig(budget_name="tiny", seeds=1))[0]
+    store = RunStore(tmp_path)
+    store.open()
+    try:
+        tmp = store.begin(spec)
+        (tmp / "result.txt").write_text("first")
+        assert not store.is_done(spec)
+        assert store.commit(spec, tmp, {"note": 1})
+        assert store.is_done(spec)
+        assert store.manifest(spec.run_id)["config_hash"] == spec.config_hash()
+        tmp2 = store.begin(spec)
+        (tmp2 / "result.txt").write_text("second")
+        assert not store.commit(spec, tmp2, {"note": 2})  # refused, first result kept
+        assert (store.run_dir(spec.run_id) / "result.txt").read_text() == "first"
+        assert not tmp2.exists()
+    finally:
+        store.close()
+
+
+def test_changed_config_is_an_error(tmp_path) -> None:
+    spec = build_plan(StudyConfig(budget_name="tiny", seeds=1))[0]
+    store = RunStore(tmp_path)
+    store.open()
+    store.commit(spec, store.begin(spec), {})
+    changed = build_plan(StudyConfig(budget_name="quick", seeds=1))[0]
+    assert changed.run_id == spec.run_id
+    with pytest.raises(StudyConflictError, match="another configuration"):
+        store.is_done(changed)
+    store.close()
+
+
+def test_open_removes_leftovers_and_takes_a_lock(tmp_path) -> None:
+    (tmp_path / "runs" / ".tmp-x-1-2").mkdir(parents=True)
+    store = RunStore(tmp_path)
+    store.open()
+    assert not (tmp_path / "runs" / ".tmp-x-1-2").exists()
+    with pytest.raises(RuntimeError, match="another study is running"):
+        RunStore(tmp_path).open()
+    store.close()
+    RunStore(tmp_path).open()
+
+
+def test_unwritable_out_is_refused(tmp_path) -> None:
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    with pytest.raises(PermissionError, match="not a writable folder"):
+        RunStore(blocker / "sub").open()
+
+
+def test_failures_are_recorded(tmp_path) -> None:
+    spec = build_plan(StudyConfig(budget_name="tiny", seeds=1))[0]
+    store = RunStore(tmp_path)
+    store.open()
+    store.fail(spec, store.begin(spec), "boom")
+    assert (
+        json.loads((tmp_path / "failures" / f"{spec.run_id}.json").read_text())["error"] == "boom"
+    )
+    assert list((tmp_path / "runs").iterdir()) == []
+    store.close()
