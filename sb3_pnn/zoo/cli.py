@@ -1,6 +1,7 @@
-"""``python -m sb3_pnn.train`` and ``python -m sb3_pnn.enjoy``: rl_zoo3's commands, with our algos.
+"""``python -m sb3_pnn.train`` and ``python -m sb3_pnn.enjoy``: rl-zoo commands with our algos.
 
-Both take every flag of ``python -m rl_zoo3.train`` / ``rl_zoo3.enjoy`` and these of ours:
+``train`` takes every flag of ``python -m rl_zoo3.train`` and these of ours; ``enjoy`` takes
+rl_zoo3.enjoy's flags that apply to our models (``--help`` lists them) and these of ours:
 
 train:
   --setup {ours,paper}        which shipped hyperparameter files: ours (default) or the paper's
@@ -27,7 +28,6 @@ import importlib
 import io
 import re
 import sys
-import textwrap
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -226,68 +226,46 @@ def with_default_threads(argv: list[str]) -> list[str]:
     return [*argv, "--num-threads", str(DEFAULT_NUM_THREADS)]
 
 
-def _without_option(argv: list[str], option: str) -> list[str]:
-    """``argv`` without ``option VALUE`` / ``option=VALUE``."""
-    result: list[str] = []
-    skip = False
-    for item in argv:
-        if skip:
-            skip = False
-        elif item == option:
-            skip = True
-        elif not item.startswith(option + "="):
-            result.append(item)
-    return result
-
-
-def _num_threads(argv: list[str]) -> tuple[int | None, list[str]]:
-    """(torch threads asked for with ``--num-threads N``: 1 by default, None for -1, torch's
-    own default, as in rl_zoo3; the other arguments)."""
-    parser = argparse.ArgumentParser(add_help=False)
-    parser.add_argument("--num-threads", type=int, default=DEFAULT_NUM_THREADS)
-    args, rest = parser.parse_known_args(argv)
-    if args.num_threads == -1:
-        return None, rest
-    if args.num_threads < 1:
-        raise ZooUsageError(f"--num-threads {args.num_threads}: expected an int >= 1, or -1")
-    return args.num_threads, rest
-
-
 def _enjoy_parser() -> argparse.ArgumentParser:
-    """rl_zoo3.enjoy's flags that the recording path honours, plus ours."""
+    """The flags of ``enjoy``: rl_zoo3.enjoy's that apply to our models, plus ours."""
     from rl_zoo3.utils import StoreDict
 
     parser = argparse.ArgumentParser(
-        prog=ENJOY_PROG, add_help=False, formatter_class=argparse.RawDescriptionHelpFormatter
+        prog=ENJOY_PROG,
+        description="Watch a model trained with python -m sb3_pnn.train (episode rewards, "
+        "lengths and successes), or record a video of it. Run folders are read without "
+        "running code from them.",
     )
-    ours = parser.add_argument_group("sb3_pnn options (besides rl_zoo3's, listed below)")
+    ours = parser.add_argument_group("sb3_pnn options")
     ours.add_argument("--record", metavar="PATH", help="record a video headless to PATH")
     ours.add_argument("--fps", type=int, default=20, help="frames per second of the recording")
-    zoo = parser.add_argument_group("rl_zoo3.enjoy flags honoured when recording")
-    hidden = argparse.SUPPRESS  # listed once, in the zoo's own help below
-    zoo.add_argument("--env", help=hidden)
-    zoo.add_argument("--algo", help=hidden)
-    zoo.add_argument("-f", "--folder", default="logs", help=hidden)
-    zoo.add_argument("-n", "--n-timesteps", type=int, default=1000, help=hidden)
-    zoo.add_argument("--exp-id", type=int, default=0, help=hidden)
-    zoo.add_argument("--load-best", action="store_true", help=hidden)
-    zoo.add_argument("--load-checkpoint", type=int, help=hidden)
-    zoo.add_argument("--load-last-checkpoint", action="store_true", help=hidden)
-    zoo.add_argument("--deterministic", action="store_true", help=hidden)
-    zoo.add_argument("--stochastic", action="store_true", help=hidden)
-    zoo.add_argument("--seed", type=int, default=0, help=hidden)
-    zoo.add_argument("--device", default="auto", help=hidden)
-    zoo.add_argument("--verbose", type=int, default=1, help=hidden)
-    zoo.add_argument("--no-render", action="store_true", help=hidden)
-    zoo.add_argument("--gym-packages", nargs="+", default=[], help=hidden)
-    zoo.add_argument("--env-kwargs", nargs="+", action=StoreDict, help=hidden)
-    flags = ", ".join(a.option_strings[-1] for a in zoo._group_actions)
-    zoo.description = textwrap.fill(flags, width=76, break_on_hyphens=False)
+    zoo = parser.add_argument_group("rl_zoo3.enjoy's options")
+    zoo.add_argument("--env", help="environment id")
+    zoo.add_argument("--algo", help="dsac, sac_multi, pnn or spnn")
+    zoo.add_argument("-f", "--folder", default="logs", help="log folder (default logs)")
+    zoo.add_argument("-n", "--n-timesteps", type=int, default=1000, help="steps to run")
+    zoo.add_argument("--exp-id", type=int, default=0, help="run N (default: the latest)")
+    zoo.add_argument("--load-best", action="store_true", help="load best_model.zip")
+    zoo.add_argument("--load-checkpoint", type=int, help="load rl_model_<N>_steps.zip")
+    zoo.add_argument("--load-last-checkpoint", action="store_true", help="the last checkpoint")
+    zoo.add_argument("--deterministic", action="store_true", help="greedy actions (default)")
+    zoo.add_argument("--stochastic", action="store_true", help="sample actions")
+    zoo.add_argument("--seed", type=int, default=0, help="seed of the env and the model")
+    zoo.add_argument("--device", default="auto", help="torch device")
+    zoo.add_argument("--verbose", type=int, default=1, help="0: quiet")
+    zoo.add_argument("--no-render", action="store_true", help="do not open a window")
+    zoo.add_argument("--gym-packages", nargs="+", default=[], help="modules to import first")
+    zoo.add_argument("--env-kwargs", nargs="+", action=StoreDict, help="key:value env arguments")
+    zoo.add_argument(
+        "--num-threads", type=int, default=DEFAULT_NUM_THREADS, help="torch threads (default 1)"
+    )
     return parser
 
 
 def enjoy_main(argv: list[str] | None = None) -> None:
-    """Run ``rl_zoo3.enjoy.enjoy()`` with our algos, or record a video with ``--record``."""
+    """Watch a trained model (episode rewards and successes), or record it with ``--record``;
+    never through rl_zoo3's enjoy, which reads a run folder's files with ``yaml.UnsafeLoader``
+    and ``eval`` (:mod:`sb3_pnn.zoo.play`)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = _enjoy_parser()
     wants_help = "-h" in argv or "--help" in argv
@@ -295,9 +273,7 @@ def enjoy_main(argv: list[str] | None = None) -> None:
 
     register_algos()
     if wants_help:
-        import rl_zoo3.enjoy
-
-        print_help(parser, rl_zoo3.enjoy.enjoy, ENJOY_PROG)
+        parser.print_help()
         return
     args, rest = parser.parse_known_args(argv)
     check_algo_and_env(args.algo, args.env, args.gym_packages)
@@ -309,27 +285,17 @@ def enjoy_main(argv: list[str] | None = None) -> None:
                 f"{args.env} has no window to render to (render modes: {modes}): pass "
                 "--record PATH.mp4 (or .gif) to record a video, or --no-render"
             )
-    from sb3_pnn.zoo.video import find_model
-
-    find_model(args)  # a clear error when there is nothing to load; sets args.exp_id
-    if args.record is None:
-        import rl_zoo3.enjoy
-
-        zoo_argv = _without_option(_without_option(argv, "--fps"), "--exp-id")
-        zoo_argv += ["--exp-id", str(args.exp_id)]  # the run find_model chose
-        zoo_argv = with_default_threads(zoo_argv)
-        if not any(a in ("-f", "--folder") for a in argv):
-            zoo_argv += ["--folder", args.folder]  # not the zoo's hub-downloading default
-        with _argv([ENJOY_PROG, *zoo_argv]):
-            rl_zoo3.enjoy.enjoy()
-        return
-    threads, rest = _num_threads(rest)
     if rest:
-        raise ZooUsageError(f"--record does not support {' '.join(rest)}")
+        raise ZooUsageError(f"{ENJOY_PROG} does not support {' '.join(rest)}")
+    threads = None if args.num_threads == -1 else args.num_threads
+    if threads is not None and threads < 1:
+        raise ZooUsageError(f"--num-threads {threads}: expected an int >= 1, or -1")
     if threads is not None:
         import torch
 
         torch.set_num_threads(threads)
-    from sb3_pnn.zoo.video import record
+        if args.verbose > 0:
+            print(f"Setting torch.num_threads to {threads}")
+    from sb3_pnn.zoo.play import play
 
-    record(args)
+    play(args)

@@ -108,10 +108,10 @@ def make_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str], work: Any = None) -> int:
     """Entry point (``argv`` without ``--ablation``); ``work`` replaces the real run (tests)."""
+    from sb3_pnn.common.atomic import write_text_atomic
     from sb3_pnn.reproduce.ablation.report import render_report
     from sb3_pnn.reproduce.running.executor import execute
     from sb3_pnn.reproduce.running.results import load_results
-    from sb3_pnn.reproduce.running.store import write_text_atomic
 
     parser = make_parser()
     args = parser.parse_args(argv)

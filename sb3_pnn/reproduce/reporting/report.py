@@ -651,6 +651,6 @@ def write_report(
     ]
     for name in figures:
         lines += [f"### {name}", "", f"![{name}](figures/{name})", ""]
-    from sb3_pnn.reproduce.running.store import write_text_atomic
+    from sb3_pnn.common.atomic import write_text_atomic
 
     write_text_atomic(path, "\n".join(lines) + "\n")

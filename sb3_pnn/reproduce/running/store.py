@@ -26,6 +26,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from sb3_pnn.common.atomic import write_text_atomic
 from sb3_pnn.reproduce.planning.plan import RunSpec
 
 MANIFEST = "manifest.json"
@@ -36,18 +37,8 @@ class StudyConflictError(RuntimeError):
 
 
 def write_json_atomic(path: Path, data: Any) -> None:
-    """Write JSON to ``path`` through a temporary file and a rename."""
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(json.dumps(data, indent=1, sort_keys=True, default=_json_default))
-    os.replace(tmp, path)
-
-
-def write_text_atomic(path: Path | str, text: str) -> None:
-    """Write text to ``path`` through a temporary file and a rename."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    """Write JSON to ``path`` atomically (:func:`sb3_pnn.common.atomic.write_atomic`)."""
+    write_text_atomic(path, json.dumps(data, indent=1, sort_keys=True, default=_json_default))
 
 
 def open_store_or_exit(parser: Any, out: Path) -> RunStore:

@@ -6,7 +6,6 @@ Empty run folders (left by -optimize, or by a run that failed early) come after 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 import pytest
@@ -14,8 +13,8 @@ from zoo_helpers import PF_ENV, PLAN_ENV
 
 from sb3_pnn.zoo.cli import enjoy_main
 from sb3_pnn.zoo.errors import ZooUsageError
+from sb3_pnn.zoo.play import find_model
 from sb3_pnn.zoo.priors import resolve_priors
-from sb3_pnn.zoo.video import find_model
 
 PF = PF_ENV.replace("/", "-")
 PLAN = PLAN_ENV.replace("/", "-")
@@ -86,14 +85,13 @@ def test_enjoy_names_exp_id_when_the_chosen_run_has_no_model(tmp_path: Path) -> 
     assert "--exp-id N" in message
 
 
-def test_enjoy_passes_the_chosen_run_to_the_zoo(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    import rl_zoo3.enjoy
+def test_enjoy_plays_the_chosen_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import sb3_pnn.zoo.play
 
     make_runs(tmp_path / "spnn", PLAN, with_model=[1], empty=[2])
-    seen: list[list[str]] = []
-    monkeypatch.setattr(rl_zoo3.enjoy, "enjoy", lambda: seen.append(list(sys.argv)))
+    seen: list[argparse.Namespace] = []
+    monkeypatch.setattr(sb3_pnn.zoo.play, "play", seen.append)
     enjoy_main(["--algo", "spnn", "--env", PLAN_ENV, "-f", str(tmp_path), "--no-render"])
-    (argv,) = seen
-    assert argv[argv.index("--exp-id") + 1] == "1"
+    (args,) = seen
+    model_path, _ = find_model(args)
+    assert args.exp_id == 1 and Path(model_path).parent.name == f"{PLAN}_1"

@@ -9,6 +9,7 @@ on. These runs keep the full-length episodes of the YAML and only shorten the st
 from __future__ import annotations
 
 import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -33,8 +34,25 @@ def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return work
 
 
-def test_train_runs_torch_on_one_thread_unless_told(trained: Path) -> None:
-    assert "Setting torch.num_threads to 1" in (trained / "train.out").read_text()
+@pytest.mark.parametrize(
+    ("given", "expected"), [([], "1"), (["--num-threads", "3"], "3"), (["--num-threads=-1"], None)]
+)
+def test_train_runs_torch_on_one_thread_unless_told(
+    given: list[str], expected: str | None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import rl_zoo3.train
+
+    from sb3_pnn.zoo.cli import train_main
+
+    seen: list[list[str]] = []
+    monkeypatch.setattr(rl_zoo3.train, "train", lambda: seen.append(list(sys.argv)))
+    train_main(["--algo", "dsac", "--env", PF_ENV, *given])
+    (argv,) = seen
+    threads = [a for a in argv if a.startswith("--num-threads")]
+    if expected is None:
+        assert threads == ["--num-threads=-1"]
+    else:
+        assert len(threads) == 1 and argv[argv.index("--num-threads") + 1] == expected
 
 
 def test_train_evaluates_on_the_entrys_env_kwargs(trained: Path) -> None:
@@ -50,7 +68,7 @@ def test_enjoy_runs_the_model_train_made(trained: Path) -> None:
         "enjoy", "--algo", "dsac", "--env", PF_ENV, "-f", "logs", "-n", "50", "--no-render",
         cwd=trained,
     )  # fmt: skip
-    assert "Loading" in result.stdout
+    assert "Loading" in result.stdout and "Episode Reward" in result.stdout
     assert "Setting torch.num_threads to 1" in result.stdout
 
 
