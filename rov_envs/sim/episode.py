@@ -63,6 +63,8 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_MOTION] = 1.0 if config.motion_obs else 0.0
     c[K.C_PROGRESS_W] = 1.0 if config.progress_weighted else 0.0
     c[K.C_HEADING_GOAL] = 1.0 if config.heading_reference == "goal" else 0.0
+    c[K.C_GOAL_DIST] = 0.0 if config.goal_distance is None else config.goal_distance
+    c[K.C_RULE_GOAL] = 1.0 if config.heading_rule == "goal" else 0.0
     c[K.C_TARGET_R] = TARGET_RADIUS
     c[K.C_SUCCESS_R] = config.success_reward
     c[K.C_UREF] = U_REF

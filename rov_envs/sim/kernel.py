@@ -96,8 +96,10 @@ C_CURRENT_Y = 25
 C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
 C_MOTION = 27  # 1.0 when the observation has a "motion" part
 C_PROGRESS_W = 28  # 1.0: r_c (eq. 18/19) paid in proportion to progress along the path
-C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the target, not the LOS course
-C_ETD = 30  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the goal, not the LOS course
+C_GOAL_DIST = 30  # the goal: 0 = the target point; D > 0 = the path point D m further along x
+C_RULE_GOAL = 31  # 1.0: eq. 21's |a_c| >= pi/2 rule reads the deviation from the goal's bearing
+C_ETD = 32  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
@@ -121,7 +123,8 @@ O_V = 15
 O_YAW_RATE = 16
 O_STEPS = 17  # steps taken in this episode
 O_PREV_GOAL = 18  # distance to the goal after the previous step (progress reward)
-O_SIZE = 19
+O_AGOAL = 19  # heading deviation from the bearing to the goal (rad)
+O_SIZE = 20
 
 #: Columns of the ``obs_path`` buffer: the "path" part (a_c / pi, g / d_L), then the "goal"
 #: part (the heading deviation from the bearing to the target point, / pi). The environments
@@ -189,6 +192,20 @@ def _distance(dx, dy):
     return math.sqrt(dx * dx + dy * dy)
 
 
+@njit(cache=True, inline="always")
+def goal_point(cfg, progress):
+    """The goal the "goal" part and the goal heading rule look at: the target point, or with
+    ``C_GOAL_DIST`` = D > 0 the path point D m beyond the closest one along x (the target once
+    that is past the path's end)."""
+    dist = cfg[C_GOAL_DIST]
+    if dist <= 0.0 or not progress + dist < cfg[C_LENGTH]:
+        return cfg[C_GOALX], cfg[C_GOALY]
+    x = progress + dist
+    if cfg[C_PATH] == 1.0:
+        return x, cfg[C_AMP] * math.sin(2.0 * math.pi * x / cfg[C_WAVE])
+    return x, 0.0
+
+
 @njit(cache=True, inline="always", _nrt=False)
 def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar, obs_motion, out):
     """Guidance, obstacle distance, sonar and motion of vehicle i; fills its observation and
@@ -210,7 +227,8 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     a_c, g, progress = los_tuple(
         int(cfg[C_PATH]), x, y, psi, cfg[C_AMP], cfg[C_WAVE], cfg[C_LOOKAHEAD], out[O_PROG, i]
     )
-    a_goal = wrap_to_pi(psi - math.atan2(cfg[C_GOALY] - y, cfg[C_GOALX] - x))
+    gx, gy = goal_point(cfg, progress)
+    a_goal = wrap_to_pi(psi - math.atan2(gy - y, gx - x))
     if cfg[C_HEADING_GOAL] != 0.0:
         a_c = a_goal
     m = n_obs[i]
@@ -246,6 +264,7 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
         obs_motion[i, 0] = min(MOTION_SWAY_LIMIT, max(-MOTION_SWAY_LIMIT, v))
         obs_motion[i, 1] = min(MOTION_YAW_RATE_LIMIT, max(-MOTION_YAW_RATE_LIMIT, r))
     out[O_AC, i] = a_c
+    out[O_AGOAL, i] = a_goal
     out[O_G, i] = g
     out[O_D, i] = d
     out[O_PROG, i] = progress
@@ -363,7 +382,8 @@ def finish_step(
             r_c *= progress_fraction(cfg, out[O_PROG, i], dx, dy)
     out[O_PREV_GOAL, i] = dist_goal
     r_v = reward_obstacle(d)
-    code = failure_code(a_c, g, d, d_L)
+    a_rule = out[O_AGOAL, i] if cfg[C_RULE_GOAL] != 0.0 else a_c
+    code = failure_code(a_rule, g, d, d_L)
     r_t = 0.0
     if code != END_NONE:
         r_t = FAILURE_REWARD
