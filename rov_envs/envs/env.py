@@ -19,14 +19,17 @@ __all__ = ["RovEnv", "make_spaces"]
 
 def _discrete_action(action: Any) -> int:
     """A Table 1 row index from an int, a numpy integer or a one-element integer array."""
-    if isinstance(action, (int, np.integer)):  # the usual case, kept fast
+    if isinstance(action, (int, np.integer)) and not isinstance(action, bool):  # kept fast
         if 0 <= action < 5:
             return int(action)
-    else:
-        a = np.asarray(action)
-        if a.size == 1 and a.dtype.kind in "iu" and 0 <= a.reshape(()) < 5:
-            return int(a.reshape(()))
-    raise ValueError(f"action={action!r} is not allowed: expected an int in [0, 4]")
+    elif isinstance(action, np.ndarray) and action.ndim <= 1 and action.size == 1:
+        # a 0-d array, or SB3's predict on one observation: shape (1,)
+        if action.dtype.kind in "iu" and 0 <= action.reshape(()) < 5:
+            return int(action.reshape(()))
+    raise ValueError(
+        f"action={action!r} is not allowed: expected an int in [0, 4] (or a one-element "
+        "integer array)"
+    )
 
 
 def _continuous_action(action: Any) -> tuple[float, float]:

@@ -81,7 +81,22 @@ class RovSB3VecEnv(VecEnv):
         return self.batch.observations()
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = actions
+        """Check the actions now (one per vehicle: ``(N,)`` or ``(N, 1)`` ints, or ``(N, 2)``
+        floats with ``continuous=True``), so that a wrong shape is named here."""
+        a = np.asarray(actions)
+        n = self.num_envs
+        if self.batch.continuous:
+            ok = a.shape == (n, 2)
+            expected = f"({n}, 2) floats"
+        else:
+            ok = a.shape in ((n,), (n, 1)) and a.dtype.kind in "iu"
+            expected = f"({n},) ints"
+        if not ok:
+            raise ValueError(
+                f"actions of shape {a.shape} and dtype {a.dtype} are not allowed: expected "
+                f"{expected}, one per vehicle"
+            )
+        self._actions = a
 
     def step_wait(self) -> VecEnvStepReturn:
         b = self.batch

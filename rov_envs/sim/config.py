@@ -46,7 +46,7 @@ def _bad(name: str, value: Any, allowed: str) -> ValueError:
 
 
 def _finite_float(name: str, value: Any, allowed: str) -> float:
-    if isinstance(value, bool):
+    if isinstance(value, (bool, str, bytes)):  # "0.2" is a typo in a config, not a number
         raise _bad(name, value, allowed)
     try:
         out = float(value)

@@ -68,3 +68,21 @@ def check_writable(path: str | os.PathLike[str]) -> Path:
     if not os.access(parent, os.W_OK | os.X_OK):
         raise ValueError(f"{str(path)!r} cannot be written: no write permission in {str(parent)!r}")
     return path
+
+
+def check_writable_folder(path: str | os.PathLike[str]) -> Path:
+    """``path`` as a ``Path`` if it is, or can be created as, a folder to write into;
+    ``ValueError`` naming the path and why not."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{str(path)!r} is a file: expected a folder")
+    existing = path
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        raise ValueError(f"{str(path)!r} cannot be created: {str(existing)!r} is not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise ValueError(
+            f"{str(path)!r} cannot be written: no write permission in {str(existing)!r}"
+        )
+    return path

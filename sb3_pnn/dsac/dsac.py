@@ -18,11 +18,13 @@ These are :func:`soft_td_target` and :func:`discrete_sac_losses`; ``DiscreteSAC.
 samples, runs the networks once each, steps the optimizers and averages the targets.
 """
 
+import inspect
 import io
 import math
 import pathlib
 from typing import Any, ClassVar, NamedTuple, TypeVar
 
+import gymnasium as gym
 import numpy as np
 import torch as th
 from gymnasium import spaces
@@ -52,6 +54,8 @@ from sb3_pnn.dsac.policies import (
     MultiInputPolicy,
 )
 from sb3_pnn.safe_io.checkpoint import load_model, model_metadata, save_with_metadata
+from sb3_pnn.safe_io.json_codec import decode, encode
+from sb3_pnn.safe_io.limits import check_number
 from sb3_pnn.safe_io.replay_buffer_io import load_buffer, save_buffer
 
 SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
@@ -61,6 +65,8 @@ SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
 DEFAULT_TARGET_ENTROPY_RATIO = 0.5
 #: Samples per gradient step: the paper's (section 3.2, "256 samples ... are used to update").
 PAPER_BATCH_SIZE = 256
+#: Largest replay buffer a checkpoint may ask for (transitions): 100 times the paper's 1e6.
+MAX_BUFFER_SIZE = 10**8
 
 
 class DiscreteSACLosses(NamedTuple):
@@ -643,9 +649,97 @@ class DiscreteSAC(OffPolicyAlgorithm):
         assert tuple(values) == self.CHECKPOINT_KEYS
         return values
 
+    @classmethod
+    def check_checkpoint_hyperparameters(cls, hyper: dict[str, Any], where: str) -> None:
+        """Refuse stored values of :attr:`CHECKPOINT_KEYS` that are of the wrong type or out of
+        any plausible range, before a model (and its replay buffer) is built from them: a
+        checkpoint may come from anyone."""
+        for key, low, high in (
+            ("buffer_size", 1, MAX_BUFFER_SIZE),
+            ("learning_starts", 0, 10**12),
+            ("batch_size", 1, 10**6),
+            ("gradient_steps", -1, 10**6),
+            ("n_steps", 1, 10**4),
+            ("target_update_interval", 1, 10**9),
+            ("stats_window_size", 1, 10**6),
+            ("verbose", 0, 2),
+        ):
+            check_number(hyper[key], f"{where} {key}", low, high, integer=True)
+        for key in ("tau", "gamma"):
+            check_number(hyper[key], f"{where} {key}", 0.0, 1.0)
+        check_number(hyper["target_entropy_ratio"], f"{where} target_entropy_ratio", 1e-9, 1.0)
+        if hyper["seed"] is not None:
+            check_number(hyper["seed"], f"{where} seed", -(2**63), 2**64, integer=True)
+        if not isinstance(hyper["optimize_memory_usage"], bool):
+            raise ValueError(f"{where} optimize_memory_usage={hyper['optimize_memory_usage']!r}")
+        if hyper["tensorboard_log"] is not None and not isinstance(hyper["tensorboard_log"], str):
+            raise ValueError(f"{where} tensorboard_log={hyper['tensorboard_log']!r:.100}")
+        freq = hyper["train_freq"]
+        if isinstance(freq, (list, tuple)) and len(freq) == 2 and freq[1] in ("step", "episode"):
+            freq = freq[0]
+        check_number(freq, f"{where} train_freq", 1, 10**9, integer=True)
+        try:
+            _parse_ent_coef(hyper["ent_coef"])
+        except (ValueError, TypeError) as error:
+            raise ValueError(f"{where} ent_coef: {error}") from None
+        buffer_kwargs = hyper["replay_buffer_kwargs"]
+        if buffer_kwargs is not None and not isinstance(buffer_kwargs, dict):
+            raise ValueError(f"{where} replay_buffer_kwargs={buffer_kwargs!r:.100}")
+        buffer_class = hyper["replay_buffer_class"] or ReplayBuffer
+        allowed = set(inspect.signature(buffer_class.__init__).parameters) | {"n_steps", "gamma"}
+        unknown = sorted(set(buffer_kwargs or {}) - allowed)
+        if unknown:
+            raise ValueError(
+                f"{where} replay_buffer_kwargs names {unknown}, which {buffer_class.__name__} "
+                "does not take"
+            )
+
     def checkpoint_extras(self) -> dict[str, Any]:
-        """Entries of a safe checkpoint kept for the reader, not read back."""
-        return {"target_entropy": float(self.target_entropy)}
+        """Entries of a safe checkpoint besides the constructor's: the target entropy (for the
+        reader) and the environment the model was trained on (:attr:`trained_env`)."""
+        extras: dict[str, Any] = {"target_entropy": float(self.target_entropy)}
+        trained_env = self.trained_env
+        if trained_env is not None:
+            extras["env"] = {
+                "id": trained_env["id"],
+                "kwargs": encode(trained_env["kwargs"], "env kwargs"),
+            }
+        return extras
+
+    def restore_checkpoint_extras(self, meta: dict[str, Any], where: str) -> None:
+        """Read back what :meth:`checkpoint_extras` stored (``env``, when there)."""
+        record = meta.get("env")
+        if record is None:
+            return
+        if not (
+            isinstance(record, dict)
+            and isinstance(record.get("id"), str)
+            and isinstance(record.get("kwargs"), dict)
+        ):
+            raise ValueError(f"{where}: malformed env entry {record!r:.200}")
+        kwargs = decode(record["kwargs"], f"{where} env kwargs")
+        self._trained_env = {"id": record["id"], "kwargs": kwargs}
+
+    @property
+    def trained_env(self) -> dict[str, Any] | None:
+        """``{"id": env id, "kwargs": keyword arguments}`` of the Gymnasium env the model was
+        trained on (the one given to the constructor, or the one a loaded checkpoint names),
+        without ``render_mode``; None when unknown (an env made without ``gymnasium.make``).
+        Evaluation and ``enjoy`` use these keywords unless told otherwise."""
+        if self.env is not None:
+            try:
+                spec = self.env.get_attr("spec", [0])[0]
+            except (AttributeError, IndexError):
+                spec = None
+            if spec is not None and getattr(spec, "id", None):
+                registered = gym.registry[spec.id].kwargs if spec.id in gym.registry else {}
+                kwargs = {
+                    k: v
+                    for k, v in (spec.kwargs or {}).items()
+                    if k != "render_mode" and registered.get(k, object()) != v
+                }
+                return {"id": spec.id, "kwargs": kwargs}
+        return getattr(self, "_trained_env", None)
 
     def _excluded_save_params(self) -> list[str]:
         return [

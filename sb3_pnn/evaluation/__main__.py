@@ -18,14 +18,18 @@ mistyped env id or baseline name) and exits with code 2.
 from __future__ import annotations
 
 import argparse
+import ast
 import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from rov_envs.sim.tasks import task_of_env
 from sb3_pnn.baselines import BASELINE_NAMES
+from sb3_pnn.common.atomic import check_writable
 from sb3_pnn.evaluation import DEFAULT_START_NOISE, evaluate_policy_on_task, resolve_env_id
+from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 
 PROG = "python -m sb3_pnn.evaluate"
 
@@ -60,6 +64,14 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="the env's vehicle preset (uuv_simulator, the default, or wu2018)",
     )
+    p.add_argument(
+        "--env-kwargs",
+        nargs="+",
+        default=[],
+        metavar="KEY:VALUE",
+        help="env keyword arguments (Python literals, e.g. control_period:0.5), over those the "
+        "model was trained with",
+    )
     p.add_argument("--record", type=int, default=0, help="keep the first K trajectories")
     p.add_argument("--stochastic", action="store_true", help="sample actions (default: greedy)")
     p.add_argument("--out", default=None, help="write the result as JSON to this path")
@@ -70,6 +82,21 @@ def build_parser() -> argparse.ArgumentParser:
         help="torch threads (default 1: on few cores small networks run slower on more)",
     )
     return p
+
+
+def parse_env_kwargs(items: Sequence[str]) -> dict[str, Any]:
+    """``["key:value", ...]`` as a dict; each value a Python literal (``ast.literal_eval``: no
+    code runs), or else the text itself."""
+    out: dict[str, Any] = {}
+    for item in items:
+        key, sep, text = item.partition(":")
+        if not sep or not key:
+            raise _UsageError(f"--env-kwargs {item!r}: expected key:value")
+        try:
+            out[key] = ast.literal_eval(text)
+        except (ValueError, SyntaxError):
+            out[key] = text
+    return out
 
 
 def load_policy(model: str) -> tuple[Any, str]:
@@ -114,8 +141,17 @@ def run(argv: Sequence[str] | None = None) -> int:
             raise _UsageError(f"--start-noise {pos} {head}: expected two finite floats >= 0")
         try:
             env_id = resolve_env_id(args.env)
+            task_of_env(env_id)
         except ValueError as exc:
             raise _UsageError(f"--env {args.env!r}: {exc}") from exc
+        if args.out:
+            try:
+                check_writable(args.out)
+            except ValueError as exc:
+                raise _UsageError(f"--out {exc}") from exc
+        given = parse_env_kwargs(args.env_kwargs)
+        if args.vehicle is not None:
+            given["vehicle"] = args.vehicle
         policy, name = load_policy(args.model)
         try:
             result = evaluate_policy_on_task(
@@ -124,7 +160,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                 n_episodes=args.episodes,
                 seed=args.seed,
                 start_noise=(pos, math.radians(head)),
-                env_kwargs={} if args.vehicle is None else {"vehicle": args.vehicle},
+                env_kwargs={**trained_env_kwargs(policy, env_id), **given},
                 record_trajectories=args.record,
                 deterministic=not args.stochastic,
                 policy_name=name,

@@ -241,6 +241,25 @@ class _Episodes:
             )
 
 
+#: Keyword arguments of a training env that describe its own task's layout: not carried over
+#: to another task by :func:`trained_env_kwargs`.
+LAYOUT_KWARGS = ("obstacles", "length", "amplitude", "wavelength", "max_episode_seconds")
+
+
+def trained_env_kwargs(policy: Any, env_id: str) -> dict[str, Any]:
+    """The keyword arguments ``policy`` was trained with (``policy.trained_env``, which
+    :class:`sb3_pnn.DiscreteSAC` keeps in its checkpoints), for an evaluation on ``env_id``:
+    without the training start noise and render mode (evaluation sets its own), and without the
+    layout arguments when ``env_id`` is another task. {} when the policy does not say."""
+    trained = getattr(policy, "trained_env", None)
+    if not isinstance(trained, dict) or not isinstance(trained.get("kwargs"), dict):
+        return {}
+    dropped = {"start_noise", "render_mode"}
+    if trained.get("id") != env_id:
+        dropped.update(LAYOUT_KWARGS)
+    return {k: v for k, v in trained["kwargs"].items() if k not in dropped}
+
+
 def _check_start_noise(start_noise: Any) -> tuple[float, float]:
     try:
         noise = tuple(float(v) for v in start_noise)
@@ -277,7 +296,9 @@ def evaluate_policy_on_task(
         seed: first seed (>= 0).
         start_noise: ``(position std m, heading std rad)`` of the start-pose perturbation, passed
             as the env's ``start_noise`` keyword (``(0, 0)``: the exact start pose).
-        env_kwargs: further keyword arguments of the env (not ``start_noise``).
+        env_kwargs: further keyword arguments of the env (not ``start_noise``); None (the
+            default): those the model was trained with (:func:`trained_env_kwargs`), {} for the
+            env's defaults.
         record_trajectories: keep the time series of the first k episodes (0 <= k <= n_episodes).
         deterministic: passed to ``predict``.
         n_envs: vehicles stepped together (default ``min(n_episodes, 50)``).
@@ -298,13 +319,13 @@ def evaluate_policy_on_task(
     n_envs = min(n_episodes, DEFAULT_MAX_ENVS) if n_envs is None else n_envs
     n_envs = min(check_int("n_envs", n_envs, 1), n_episodes)
     noise = _check_start_noise(start_noise)
-    env_kwargs = dict(env_kwargs or {})
+    env_id = resolve_env_id(env_id)
+    env_kwargs = dict(trained_env_kwargs(policy, env_id) if env_kwargs is None else env_kwargs)
     if "start_noise" in env_kwargs:
         raise ValueError(
             f"env_kwargs={env_kwargs!r} is not allowed: pass the start-pose perturbation as "
             "start_noise=..., not inside env_kwargs"
         )
-    env_id = resolve_env_id(env_id)
     backend = make_backend(env_id, n_envs, {**env_kwargs, "start_noise": noise})
     policy, name = _resolve_policy(policy, getattr(backend, "config", None), policy_name)
     _check_spaces(policy, name, backend, env_id)

@@ -124,11 +124,10 @@ class EvaluationResult:
         return cls(**d)
 
     def save_json(self, path: str | Path) -> Path:
-        """Write :meth:`to_dict` as JSON to ``path`` (parents created); return the path."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.to_dict(), indent=1))
-        return path
+        """Write :meth:`to_dict` as JSON to ``path`` atomically (parents created); return it."""
+        from sb3_pnn.common.atomic import write_text_atomic
+
+        return write_text_atomic(path, json.dumps(self.to_dict(), indent=1))
 
     def summary_rows(self) -> list[tuple[str, str]]:
         """(label, value) rows for a readable table."""

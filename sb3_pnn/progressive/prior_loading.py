@@ -26,7 +26,6 @@ Columns read from a checkpoint (a "Q-network is a column too"):
 from __future__ import annotations
 
 import base64
-import json
 import os
 import pickle
 import pickletools
@@ -39,6 +38,16 @@ import torch as th
 from torch import nn
 
 from sb3_pnn.progressive.obs_spec import ObsSpec, obs_spec_from_saved
+from sb3_pnn.safe_io.limits import (
+    MAX_CHECKPOINT_BYTES,
+    MAX_JSON_BYTES,
+    MAX_WEIGHTS_BYTES,
+    check_file_size,
+    check_widths,
+    member_sizes,
+    parse_json,
+    read_member,
+)
 
 #: Activations a prior may use, by class name (``torch.nn`` classes with default arguments).
 ACTIVATIONS: dict[str, type[nn.Module]] = {
@@ -68,9 +77,18 @@ class ColumnSpec:
 
     @staticmethod
     def from_json(d: dict[str, Any]) -> ColumnSpec:
-        return ColumnSpec(
-            int(d["in_dim"]), tuple(int(h) for h in d["hidden"]), int(d["out_dim"]), d["activation"]
-        )
+        """A column stored in a saved model's ``prior_specs``; sizes checked before any network
+        is built from them."""
+        if not isinstance(d, dict):
+            raise ValueError(f"prior column spec: expected a mapping, got {d!r:.100}")
+        hidden = check_widths(d.get("hidden"), "prior column spec hidden")
+        in_dim, out_dim = check_widths([d.get("in_dim"), d.get("out_dim")], "prior column spec")
+        if d.get("activation") not in ACTIVATIONS:
+            raise ValueError(
+                f"prior column spec activation={d.get('activation')!r:.60} is not allowed: "
+                f"expected one of {sorted(ACTIVATIONS)}"
+            )
+        return ColumnSpec(in_dim, tuple(hidden), out_dim, d["activation"])
 
 
 @dataclass(frozen=True)
@@ -209,24 +227,32 @@ def _n_actions(data: dict[str, Any], path: str) -> int:
 
 def read_zip(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[str, th.Tensor]]:
     """The ``data`` JSON (as plain JSON, nothing unpickled) and ``policy.pth`` state dict of a
-    SB3 zip; ``ValueError``/``FileNotFoundError`` naming the path on any problem."""
+    SB3 zip; ``ValueError``/``FileNotFoundError`` naming the path on any problem. The file's and
+    the members' sizes are checked before they are read (:mod:`sb3_pnn.safe_io.limits`)."""
     path = os.fspath(path)
     if not os.path.isfile(path):
         raise FileNotFoundError(f"prior checkpoint {path!r} does not exist (expected an SB3 .zip)")
+    check_file_size(os.path.getsize(path), MAX_CHECKPOINT_BYTES, path, "prior checkpoint")
+    where = f"prior checkpoint {path!r}"
     try:
         with zipfile.ZipFile(path) as archive:
             names = set(archive.namelist())
             missing = {"data", "policy.pth"} - names
             if missing:
-                raise _fail(path, f"not a SB3 checkpoint: missing {sorted(missing)} in the zip")
-            data = json.loads(archive.read("data").decode("utf-8"))
+                raise _fail(
+                    path,
+                    f"not a SB3 checkpoint: missing {sorted(missing)} in the zip (truncated or "
+                    "corrupt, or another kind of file)",
+                )
+            data = parse_json(
+                read_member(archive, "data", MAX_JSON_BYTES, where), f"{where}: the 'data' part"
+            )
+            member_sizes(archive, ["policy.pth"], MAX_WEIGHTS_BYTES, where)
             with archive.open("policy.pth") as f:
                 state_dict = th.load(f, map_location="cpu", weights_only=True)
     except zipfile.BadZipFile as e:
         raise _fail(path, "not a zip file (expected an SB3 .zip checkpoint)") from e
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise _fail(path, f"the 'data' part is not SB3's JSON ({e})") from e
-    except (RuntimeError, EOFError, OSError, pickle.UnpicklingError) as e:
+    except (RuntimeError, EOFError, OSError, pickle.UnpicklingError, KeyError) as e:
         # weights_only=True refuses any pickled object that is not a tensor / plain container
         raise _fail(path, f"policy.pth is not a plain tensor state dict, refused ({e})") from e
     if not isinstance(data, dict):
@@ -311,3 +337,21 @@ def load_prior(path: str | os.PathLike[str]) -> PriorCheckpoint:
     return PriorCheckpoint(
         spec, [(w.detach().clone(), b.detach().clone()) for w, b in actor_layers], detach
     )
+
+
+def trained_env_id(path: str | os.PathLike[str]) -> str | None:
+    """The env id a prior checkpoint says it was trained on (the ``env`` entry of a
+    :class:`sb3_pnn.DiscreteSAC` checkpoint's JSON member); None when it does not say (a plain
+    SB3 checkpoint, or one saved without a registered env)."""
+    path = os.fspath(path)
+    where = f"prior checkpoint {path!r}"
+    try:
+        with zipfile.ZipFile(path) as archive:
+            if "sb3_pnn.json" not in archive.namelist():
+                return None
+            meta = parse_json(read_member(archive, "sb3_pnn.json", MAX_JSON_BYTES, where), where)
+    except zipfile.BadZipFile as e:
+        raise _fail(path, "not a zip file (expected an SB3 .zip checkpoint)") from e
+    env = meta.get("env") if isinstance(meta, dict) else None
+    env_id = env.get("id") if isinstance(env, dict) else None
+    return env_id if isinstance(env_id, str) else None

@@ -206,6 +206,13 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
             flush=True,
         )
         if args.report_only:
+            if not any(store.is_done(spec) for spec in plan):
+                print(
+                    f"error: --report-only: {os.fspath(out)} holds no finished run of this study "
+                    "(same --seeds, --set and budget as when it ran?)",
+                    file=sys.stderr,
+                )
+                return 2
             report = finish(out, config, plan, store, args.jobs)
             print(f"report: {os.fspath(report.resolve())}", flush=True)
             return 0

@@ -21,6 +21,7 @@ and ``checkpoint_hyperparameters()`` (their values for one model).
 
 from __future__ import annotations
 
+import inspect
 import io
 import json
 import os
@@ -33,7 +34,7 @@ import stable_baselines3 as sb3
 import torch as th
 from gymnasium import spaces
 from stable_baselines3.common.buffers import ReplayBuffer
-from stable_baselines3.common.save_util import load_from_zip_file, open_path, recursive_setattr
+from stable_baselines3.common.save_util import load_from_zip_file, recursive_setattr
 from stable_baselines3.common.utils import (
     ConstantSchedule,
     FloatSchedule,
@@ -41,8 +42,18 @@ from stable_baselines3.common.utils import (
     get_system_info,
 )
 
-from sb3_pnn.safe_io.files import read_file_bytes
+from sb3_pnn.safe_io.files import read_file_bytes, write_checkpoint_bytes
 from sb3_pnn.safe_io.json_codec import decode, encode, safe_class_name
+from sb3_pnn.safe_io.limits import (
+    MAX_CHECKPOINT_BYTES,
+    MAX_JSON_BYTES,
+    MAX_WEIGHTS_BYTES,
+    check_number,
+    check_widths,
+    member_sizes,
+    parse_json,
+    read_member,
+)
 from sb3_pnn.safe_io.policy_registry import get_policy_class, policy_class_name
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
 
@@ -134,54 +145,43 @@ def model_metadata(model: OffPolicyAlgorithm, algorithm_name: str = FORMAT) -> d
 def save_with_metadata(
     path: str | pathlib.Path | io.BufferedIOBase, sb3_zip: io.BytesIO, meta: dict[str, Any]
 ) -> None:
-    """Write SB3's zip (built in memory) plus :data:`JSON_MEMBER` to ``path`` (SB3 naming: a
-    path without suffix gets ``.zip``)."""
+    """Write SB3's zip (built in memory) plus :data:`JSON_MEMBER` to ``path``, atomically (SB3
+    naming: a path without suffix gets ``.zip``)."""
     with zipfile.ZipFile(sb3_zip, mode="a") as archive:
         archive.writestr(JSON_MEMBER, json.dumps(meta, indent=1, allow_nan=False))
-    file = open_path(path, "w", verbose=0, suffix="zip")
-    try:
-        file.write(sb3_zip.getvalue())
-    finally:
-        if isinstance(path, (str, pathlib.Path)):
-            file.close()
+    write_checkpoint_bytes(path, sb3_zip.getvalue(), "zip")
 
 
 # --- loading ------------------------------------------------------------------------------
-def read_checkpoint(
-    path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
-) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any], str]:
-    """(JSON member, state dicts, pytorch variables, name) of a safe checkpoint; never reads
-    ``data``. UnsafeCheckpointError when the JSON member is missing."""
-    raw, name = read_file_bytes(path, "zip", "DiscreteSAC checkpoint", "checkpoint")
-    try:
-        with zipfile.ZipFile(raw) as archive:
-            names = archive.namelist()
-            if JSON_MEMBER not in names:
-                what = (
-                    "a Stable-Baselines3 zip without sb3_pnn's JSON member (saved by SB3 itself, "
-                    "or by sb3_pnn before safe checkpoints)"
-                    if "data" in names
-                    else f"a zip without sb3_pnn's JSON member (members: {sorted(names)[:8]})"
-                )
-                raise UnsafeCheckpointError(
-                    f"{name!r} is {what}. Loading it needs unpickling its 'data' part, which can "
-                    "run arbitrary code, so it is refused. If you trust the file, load it with "
-                    "DiscreteSAC.load(path, trust_pickle=True) and save it again to get a safe "
-                    "checkpoint"
-                )
-            meta = json.loads(archive.read(JSON_MEMBER).decode("utf-8"))
-    except zipfile.BadZipFile as e:
-        raise ValueError(
-            f"{name!r} is not a valid zip file ({e}); expected a DiscreteSAC .zip checkpoint"
-        ) from e
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise ValueError(f"{name!r}: the {JSON_MEMBER} member is not valid JSON ({e})") from e
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ValueError(f"{name!r}: {JSON_MEMBER} is not a {FORMAT} description")
-    if meta.get("version") != VERSION:
-        raise ValueError(
-            f"{name!r}: checkpoint format version {meta.get('version')!r} is not supported "
-            f"(this sb3_pnn reads version {VERSION})"
+#: The members SB3 itself writes into every model zip (a zip with them but without
+#: :data:`JSON_MEMBER` is an SB3 checkpoint that only unpickling can read).
+SB3_MEMBERS = frozenset({"data", "policy.pth", "pytorch_variables.pth"})
+
+
+def _missing_json_member(name: str, names: list[str]) -> ValueError:
+    """The error for a zip without :data:`JSON_MEMBER`: unsafe when it is a whole SB3
+    checkpoint, corrupt otherwise (e.g. a file cut short, where zipfile may find a weights
+    archive nested inside)."""
+    if SB3_MEMBERS <= set(names):
+        return UnsafeCheckpointError(
+            f"{name!r} is a Stable-Baselines3 zip without sb3_pnn's JSON member (saved by SB3 "
+            "itself, or by sb3_pnn before safe checkpoints). Loading it needs unpickling its "
+            "'data' part, which can run arbitrary code, so it is refused. If you trust the "
+            "file, load it with DiscreteSAC.load(path, trust_pickle=True) and save it again to "
+            "get a safe checkpoint"
+        )
+    return ValueError(
+        f"{name!r} is not a complete DiscreteSAC checkpoint: it is truncated or corrupt (the zip "
+        f"holds {sorted(names)[:6]}, not sb3_pnn's {JSON_MEMBER} and SB3's members)"
+    )
+
+
+def _read_weights(raw: io.BytesIO, names: list[str], name: str, device: Any) -> tuple[dict, dict]:
+    """The ``.pth`` members through SB3's ``load_from_zip_file(load_data=False)``
+    (``torch.load(weights_only=True)``), their sizes checked first."""
+    with zipfile.ZipFile(raw) as archive:
+        member_sizes(
+            archive, [n for n in names if n.endswith(".pth")], MAX_WEIGHTS_BYTES, repr(name)
         )
     raw.seek(0)
     try:
@@ -189,18 +189,93 @@ def read_checkpoint(
     except (ValueError, RuntimeError, EOFError, OSError, pickle.UnpicklingError) as e:
         # weights_only=True refuses anything that is not tensors / plain containers
         raise ValueError(f"{name!r}: cannot read the weights (.pth members) ({e})") from e
-    expected = set(meta.get("state_dicts", []))
-    if set(params) != expected:
+    except (zipfile.BadZipFile, KeyError, IndexError, UnicodeDecodeError) as e:
+        raise ValueError(f"{name!r}: the weights (.pth members) are corrupt ({e})") from e
+    return params, variables or {}
+
+
+def read_checkpoint(
+    path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
+) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any], str]:
+    """(JSON member, state dicts, pytorch variables, name) of a safe checkpoint; never reads
+    ``data``. UnsafeCheckpointError when the file is an SB3 checkpoint without the JSON member,
+    ValueError naming the problem when it is corrupt, truncated or larger than the limits of
+    :mod:`sb3_pnn.safe_io.limits`."""
+    raw, name = read_file_bytes(
+        path, "zip", "DiscreteSAC checkpoint", "checkpoint", MAX_CHECKPOINT_BYTES
+    )
+    try:
+        with zipfile.ZipFile(raw) as archive:
+            names = archive.namelist()
+            if JSON_MEMBER not in names:
+                raise _missing_json_member(name, names)
+            meta_bytes = read_member(archive, JSON_MEMBER, MAX_JSON_BYTES, repr(name))
+    except zipfile.BadZipFile as e:
         raise ValueError(
-            f"{name!r}: expected state dicts {sorted(expected)}, found {sorted(params)}"
+            f"{name!r} is not a valid zip file ({e}): truncated or corrupt; expected a "
+            "DiscreteSAC .zip checkpoint"
+        ) from e
+    meta = parse_json(meta_bytes, f"{name!r}: the {JSON_MEMBER} member")
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ValueError(f"{name!r}: {JSON_MEMBER} is not a {FORMAT} description")
+    if meta.get("version") != VERSION:
+        raise ValueError(
+            f"{name!r}: checkpoint format version {meta.get('version')!r} is not supported "
+            f"(this sb3_pnn reads version {VERSION})"
         )
-    variables = variables or {}
+    params, variables = _read_weights(raw, names, name, device)
+    expected = meta.get("state_dicts")
+    if not isinstance(expected, list) or set(params) != set(map(str, expected)):
+        raise ValueError(
+            f"{name!r}: expected state dicts {expected!r:.200}, found {sorted(params)}"
+        )
     if not isinstance(variables, dict) or set(variables) != set(meta.get("pytorch_variables", [])):
         raise ValueError(
-            f"{name!r}: expected pytorch variables {meta.get('pytorch_variables')}, found "
+            f"{name!r}: expected pytorch variables {meta.get('pytorch_variables')!r:.200}, found "
             f"{sorted(variables) if isinstance(variables, dict) else type(variables).__name__}"
         )
     return meta, params, variables, name
+
+
+def check_state(state: Any, where: str) -> None:
+    """The stored training counters: ints >= 0, the remaining progress a number <= 1."""
+    if not isinstance(state, dict):
+        raise ValueError(f"{where}: the state entry is not a mapping")
+    for key in STATE_KEYS:
+        if key not in state:
+            continue
+        if key == "_current_progress_remaining":
+            check_number(state[key], f"{where} {key}", -1e9, 1.0)  # < 0 past the budget
+        else:
+            check_number(state[key], f"{where} {key}", 0, 10**15, integer=True)
+
+
+def check_policy_kwargs(policy_class: type, kwargs: Any, where: str) -> None:
+    """Stored policy keyword arguments: names the policy's constructor takes, and network
+    sizes within :mod:`sb3_pnn.safe_io.limits` (before anything is built from them)."""
+    if kwargs is None:
+        return
+    if not isinstance(kwargs, dict):
+        raise ValueError(f"{where}: policy_kwargs is not a mapping: {kwargs!r:.100}")
+    parameters = inspect.signature(policy_class.__init__).parameters
+    takes_any = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values())
+    unknown = sorted(k for k in kwargs if k not in parameters or k in _POSITIONAL)
+    if unknown and not takes_any:
+        known = sorted(k for k in parameters if k not in _POSITIONAL)
+        raise ValueError(
+            f"{where}: policy_kwargs names {unknown}, which {policy_class.__name__} does not "
+            f"take (expected some of {known})"
+        )
+    net_arch = kwargs.get("net_arch")
+    if isinstance(net_arch, dict):
+        for key, widths in net_arch.items():
+            check_widths(widths, f"{where} policy_kwargs['net_arch'][{key!r}]")
+    elif net_arch is not None:
+        check_widths(net_arch, f"{where} policy_kwargs['net_arch']")
+
+
+#: A policy constructor's arguments that a checkpoint never stores in policy_kwargs.
+_POSITIONAL = ("self", "observation_space", "action_space", "lr_schedule")
 
 
 def _check_env_spaces(env: Any, obs: spaces.Space, act: spaces.Space, name: str) -> None:
@@ -238,6 +313,9 @@ def load_model(
     if not isinstance(hyper_json, dict) or set(hyper_json) != set(cls.CHECKPOINT_KEYS):  # type: ignore[attr-defined]
         raise ValueError(f"{where}: malformed hyperparameters entry")
     hyper = {k: decode(v, f"{where} {k}") for k, v in hyper_json.items()}
+    cls.check_checkpoint_hyperparameters(hyper, where)  # type: ignore[attr-defined]
+    check_policy_kwargs(policy_class, hyper.get("policy_kwargs"), where)
+    check_state(meta.get("state", {}), where)
     buffer_class = hyper["replay_buffer_class"]
     if buffer_class is not None and not (
         isinstance(buffer_class, type) and issubclass(buffer_class, ReplayBuffer)
@@ -285,6 +363,9 @@ def load_model(
     for key, value in kwargs.items():  # as SB3's load: other kwargs set attributes
         setattr(model, key, value)
     model._setup_model()
+    restore = getattr(model, "restore_checkpoint_extras", None)
+    if restore is not None:
+        restore(meta, where)
     try:
         model.set_parameters(params, exact_match=True, device=device)
     except (ValueError, RuntimeError, KeyError) as e:

@@ -26,11 +26,17 @@ from typing import Any
 import numpy as np
 import torch as th
 from stable_baselines3.common.buffers import NStepReplayBuffer, ReplayBuffer
-from stable_baselines3.common.save_util import open_path
 
 from sb3_pnn.safe_io.checkpoint import UnsafeCheckpointError
-from sb3_pnn.safe_io.files import read_file_bytes
+from sb3_pnn.safe_io.files import read_file_bytes, write_checkpoint_bytes
 from sb3_pnn.safe_io.json_codec import safe_class, safe_class_name
+from sb3_pnn.safe_io.limits import (
+    MAX_BUFFER_BYTES,
+    MAX_JSON_BYTES,
+    check_number,
+    member_sizes,
+    parse_json,
+)
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
 
 FORMAT = "sb3_pnn.replay_buffer"
@@ -90,44 +96,88 @@ def save_buffer(buffer: ReplayBuffer, path: str | pathlib.Path | io.BufferedIOBa
         meta["gamma"] = float(buffer.gamma)
     n = meta["stored_rows"]
     arrays = {name: value[:n] for name, value in _arrays(buffer, keys).items()}
-    file = open_path(path, "w", verbose=0, suffix="pkl")
+    archive = io.BytesIO()
+    np.savez(archive, __meta__=np.array(json.dumps(meta)), **arrays)
+    write_checkpoint_bytes(path, archive.getvalue(), "pkl")
+
+
+def _not_a_buffer(name: str, head: bytes) -> ValueError:
+    """Why a file is not a readable archive: a pickle (unsafe), or corrupt."""
+    if head[:1] == b"\x80":  # pickle protocols 2 and later start with PROTO
+        return UnsafeCheckpointError(
+            f"replay buffer file {name!r} is a pickle (SB3's save_replay_buffer writes one), not "
+            "an sb3_pnn replay-buffer archive. Unpickling can run arbitrary code, so it is "
+            "refused; if you trust the file, pass trust_pickle=True to load_replay_buffer"
+        )
+    return ValueError(
+        f"replay buffer file {name!r} is truncated or corrupt: expected an sb3_pnn replay-buffer "
+        "archive (written by DiscreteSAC.save_replay_buffer)"
+    )
+
+
+def _read_archive(raw: io.BytesIO, name: str) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """The metadata and the arrays of a buffer archive, sizes checked before reading."""
+    head = raw.getvalue()[:4]
+    if not zipfile.is_zipfile(raw):
+        raise _not_a_buffer(name, head)
+    raw.seek(0)
+    where = f"replay buffer file {name!r}"
     try:
-        np.savez(file, __meta__=np.array(json.dumps(meta)), **arrays)
-    finally:
-        if isinstance(path, (str, pathlib.Path)):
-            file.close()
+        with zipfile.ZipFile(raw) as archive:
+            names = archive.namelist()
+            if "__meta__.npy" not in names:
+                raise _not_a_buffer(name, head)
+            member_sizes(archive, names, MAX_BUFFER_BYTES, where)
+            member_sizes(archive, ["__meta__.npy"], MAX_JSON_BYTES, where)
+        raw.seek(0)
+        with np.load(raw, allow_pickle=False) as npz:
+            meta_text = str(npz["__meta__"])
+            arrays = {k: npz[k] for k in npz.files if k != "__meta__"}
+    except (ValueError, zipfile.BadZipFile, OSError, EOFError, KeyError) as e:
+        if isinstance(e, ValueError) and "replay buffer file" in str(e):
+            raise
+        raise ValueError(f"{where} is truncated or corrupt ({e})") from e
+    meta = parse_json(meta_text.encode("utf-8"), f"{where}: its metadata")
+    if not isinstance(meta, dict):
+        raise ValueError(f"{where}: its metadata is not a mapping")
+    return meta, arrays
+
+
+def _check_meta(meta: dict[str, Any], where: str) -> None:
+    """Stored sizes and switches of the right type and range, before a buffer is allocated."""
+    n_envs = check_number(meta.get("n_envs"), f"{where} n_envs", 1, 10**4, integer=True)
+    check_number(meta.get("buffer_size"), f"{where} buffer_size", 1, 10**9, integer=True)
+    if meta["buffer_size"] * n_envs > 10**9:
+        raise ValueError(f"{where}: buffer_size x n_envs = {meta['buffer_size'] * n_envs} rows")
+    for key in ("pos", "stored_rows"):
+        check_number(meta.get(key), f"{where} {key}", 0, 10**9, integer=True)
+    for key in ("full", "optimize_memory_usage", "handle_timeout_termination"):
+        if not isinstance(meta.get(key), bool):
+            raise ValueError(
+                f"{where} {key}={meta.get(key)!r:.100} is not allowed: expected a bool"
+            )
+    if "n_steps" in meta:
+        check_number(meta["n_steps"], f"{where} n_steps", 1, 10**4, integer=True)
+        check_number(meta.get("gamma"), f"{where} gamma", 0.0, 1.0)
 
 
 def load_buffer(
     path: str | os.PathLike[str] | io.BufferedIOBase, device: th.device | str = "cpu"
 ) -> ReplayBuffer:
-    """Rebuild a replay buffer saved by :func:`save_buffer`, never unpickling anything."""
-    raw, name = read_file_bytes(path, "pkl", "replay buffer file", "replay buffer")
-    refuse = UnsafeCheckpointError(
-        f"replay buffer file {name!r} is not an sb3_pnn replay-buffer archive (probably a pickle "
-        "written by SB3's save_replay_buffer). Unpickling can run arbitrary code, so it is "
-        "refused; if you trust the file, pass trust_pickle=True to load_replay_buffer"
+    """Rebuild a replay buffer saved by :func:`save_buffer`, never unpickling anything; the
+    archive's sizes and values are checked before anything is allocated."""
+    raw, name = read_file_bytes(
+        path, "pkl", "replay buffer file", "replay buffer", MAX_BUFFER_BYTES
     )
-    if not zipfile.is_zipfile(raw):
-        raise refuse
-    raw.seek(0)
-    try:
-        with np.load(raw, allow_pickle=False) as archive:
-            if "__meta__" not in archive.files:
-                raise refuse
-            meta = json.loads(str(archive["__meta__"]))
-            arrays = {k: archive[k] for k in archive.files if k != "__meta__"}
-    except (ValueError, zipfile.BadZipFile, OSError, json.JSONDecodeError) as e:
-        if isinstance(e, UnsafeCheckpointError):
-            raise
-        raise ValueError(f"replay buffer file {name!r} is corrupt or unreadable ({e})") from e
+    meta, arrays = _read_archive(raw, name)
     if meta.get("format") != FORMAT or meta.get("version") != VERSION:
         raise ValueError(
-            f"replay buffer file {name!r}: unsupported format {meta.get('format')!r} version "
-            f"{meta.get('version')!r} (expected {FORMAT} version {VERSION})"
+            f"replay buffer file {name!r}: unsupported format {meta.get('format')!r:.60} version "
+            f"{meta.get('version')!r:.20} (expected {FORMAT} version {VERSION})"
         )
     where = f"replay buffer file {name!r}"
-    cls = safe_class(str(meta["class"]), where)
+    _check_meta(meta, where)
+    cls = safe_class(str(meta.get("class")), where)
     if not issubclass(cls, ReplayBuffer):
         raise ValueError(f"{where}: class {meta['class']!r} is not a replay buffer")
     n_envs = int(meta["n_envs"])

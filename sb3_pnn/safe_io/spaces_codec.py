@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
+from sb3_pnn.safe_io.limits import check_number
+
 #: dtypes a decoded space may have (numpy names)
 _DTYPES = {
     "float16", "float32", "float64", "int8", "int16", "int32", "int64",
@@ -52,6 +54,21 @@ def _array(value: Any, dtype: str, shape: tuple[int, ...], where: str) -> np.nda
     if arr.shape != shape:
         raise ValueError(f"{where}: bounds have shape {arr.shape}, expected {shape}")
     return arr
+
+
+#: Most elements (product of the shape) a stored space may have, and most parts of a Dict.
+MAX_ELEMENTS = 10**7
+MAX_DICT_KEYS = 64
+
+
+def _shape(value: Any, where: str) -> tuple[int, ...]:
+    """A stored shape: at most 8 dimensions of ints >= 0 with at most ``MAX_ELEMENTS``."""
+    if not isinstance(value, (list, tuple)) or len(value) > 8:
+        raise ValueError(f"{where}: shape {value!r:.100} is not allowed: expected <= 8 dims")
+    dims = tuple(check_number(d, f"{where} shape", 0, MAX_ELEMENTS, integer=True) for d in value)
+    if math.prod(dims) > MAX_ELEMENTS:
+        raise ValueError(f"{where}: shape {dims} has more than {MAX_ELEMENTS} elements")
+    return dims
 
 
 def space_to_json(space: spaces.Space) -> dict[str, Any]:
@@ -97,13 +114,16 @@ def space_from_json(data: Any, where: str = "space") -> spaces.Space:
             dtype = str(data["dtype"])
             if dtype not in _DTYPES:
                 raise ValueError(f"unsupported dtype {dtype!r}")
-            shape = tuple(int(s) for s in data["shape"])
+            shape = _shape(data["shape"], where)
             low = _array(data["low"], dtype, shape, f"{where}.low")
             high = _array(data["high"], dtype, shape, f"{where}.high")
             return spaces.Box(low=low, high=high, shape=shape, dtype=np.dtype(dtype))
         if kind == "Discrete":
-            return spaces.Discrete(int(data["n"]), start=int(data.get("start", 0)))
+            n = check_number(data["n"], f"{where}.n", 1, MAX_ELEMENTS, integer=True)
+            start = check_number(data.get("start", 0), f"{where}.start", -(2**62), 2**62, True)
+            return spaces.Discrete(n, start=start)
         if kind == "MultiDiscrete":
+            _shape([len(data["nvec"])], where)
             dtype = str(data.get("dtype", "int64"))
             if dtype not in _DTYPES:
                 raise ValueError(f"unsupported dtype {dtype!r}")
@@ -114,9 +134,12 @@ def space_from_json(data: Any, where: str = "space") -> spaces.Space:
             )
         if kind == "MultiBinary":
             n = data["n"]
-            return spaces.MultiBinary(int(n) if isinstance(n, int) else [int(x) for x in n])
+            n = _shape([n] if isinstance(n, int) else n, where)
+            return spaces.MultiBinary(list(n) if len(n) > 1 else n[0])
         if kind == "Dict":
             parts: OrderedDict[str, spaces.Space] = OrderedDict()  # keeps the saved key order
+            if len(data["spaces"]) > MAX_DICT_KEYS:
+                raise ValueError(f"more than {MAX_DICT_KEYS} parts")
             for key, sub in data["spaces"]:
                 if not isinstance(key, str):
                     raise ValueError(f"Dict key {key!r} is not a string")

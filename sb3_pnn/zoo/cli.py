@@ -26,6 +26,7 @@ import argparse
 import contextlib
 import importlib
 import io
+import os
 import re
 import sys
 from collections.abc import Callable, Iterator
@@ -33,6 +34,7 @@ from contextlib import contextmanager
 
 import gymnasium as gym
 
+from sb3_pnn.common.atomic import check_writable_folder
 from sb3_pnn.common.checks import did_you_mean
 from sb3_pnn.zoo.errors import ZooUsageError
 
@@ -84,7 +86,46 @@ def _common_parser() -> argparse.ArgumentParser:
     parser.add_argument("-conf", "--conf-file")
     parser.add_argument("--gym-packages", nargs="+", default=[])
     parser.add_argument("-n", "--n-timesteps", type=int, default=None)
+    parser.add_argument("-f", "--log-folder", default="logs")
+    parser.add_argument("-tb", "--tensorboard-log", default="")
+    parser.add_argument("-i", "--trained-agent", default="")
+    for flag in ("-params", "--hyperparams", "--env-kwargs", "--eval-env-kwargs"):
+        parser.add_argument(flag, nargs="+", default=None, dest=flag.lstrip("-").replace("-", "_"))
     return parser
+
+
+def check_train_inputs(common: argparse.Namespace) -> None:
+    """What rl_zoo3 would only fail on with a traceback (after building the env): values of
+    ``-params`` / ``--env-kwargs`` that are not Python expressions, a ``-i`` model that is not
+    there, log folders that cannot be written."""
+    import rl_zoo3.utils
+
+    for flag, values in (
+        ("-params", common.params or common.hyperparams),
+        ("--env-kwargs", common.env_kwargs),
+        ("--eval-env-kwargs", common.eval_env_kwargs),
+    ):
+        for item in values or []:
+            key, sep, text = item.partition(":")
+            if not sep or not key:
+                raise ZooUsageError(f"{flag} {item!r}: expected key:value")
+            try:
+                # the zoo's StoreDict evaluates it the same way (the user's own input)
+                eval(text, dict(vars(rl_zoo3.utils)))  # noqa: S307
+            except Exception as error:  # noqa: BLE001 - any failure is a bad value
+                raise ZooUsageError(
+                    f"{flag} {item!r}: the value {text!r} is not a Python expression "
+                    f"({type(error).__name__}: {error}); quote strings, e.g. {key}:\"'text'\""
+                ) from None
+    agent = common.trained_agent
+    if agent and not (agent.endswith(".zip") and os.path.isfile(agent)):
+        raise ZooUsageError(f"-i/--trained-agent {agent!r}: expected the path of a model .zip")
+    for flag, folder in (("-f/--log-folder", common.log_folder), ("-tb", common.tensorboard_log)):
+        if folder:
+            try:
+                check_writable_folder(folder)
+            except ValueError as error:
+                raise ZooUsageError(f"{flag} {error}") from None
 
 
 def check_steps(n_timesteps: int | None, default: str) -> None:
@@ -190,6 +231,7 @@ def train_main(argv: list[str] | None = None) -> None:
     common, _ = _common_parser().parse_known_args(rest)
     check_algo_and_env(common.algo, common.env, common.gym_packages)
     check_steps(common.n_timesteps, "the config's n_timesteps")
+    check_train_inputs(common)
     if ours.setup is not None and common.conf_file is not None:
         raise ZooUsageError(
             f"--setup {ours.setup} and --conf-file {common.conf_file} both pick the "

@@ -37,6 +37,7 @@ from rl_zoo3.exp_manager import ExperimentManager
 from rl_zoo3.hyperparams_opt import HYPERPARAMS_CONVERTER, HYPERPARAMS_SAMPLER
 from stable_baselines3.common.base_class import BaseAlgorithm
 
+from sb3_pnn.common.atomic import write_text_atomic
 from sb3_pnn.zoo.callbacks import RovMetricsCallback
 from sb3_pnn.zoo.configs import load_config_file, select_entry, validate_entry
 from sb3_pnn.zoo.errors import ZooUsageError
@@ -367,7 +368,7 @@ class PNNExperimentManager(ExperimentManager):
             "best_params": best.params,
             "paper_values": PAPER_VALUES,
         }
-        Path(f"{log_path}.json").write_text(json.dumps(report, indent=2, default=str))
+        write_text_atomic(f"{log_path}.json", json.dumps(report, indent=2, default=str))
         study.trials_dataframe().to_csv(f"{log_path}.csv")
         print(f"Writing report to {log_path}.json and .csv")
         if not self.no_optim_plots:

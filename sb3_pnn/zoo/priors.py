@@ -137,5 +137,37 @@ def resolve_priors(
                 raise ZooUsageError(
                     f"{role} prior for {algo} on {env_id}: {path} is not an SB3 .zip checkpoint"
                 )
+        check_prior_role(path, role, algo, env_id)
         paths.append(str(path))
     return paths
+
+
+def check_prior_role(path: Path, role: str, algo: str, env_id: str) -> None:
+    """Refuse a prior that cannot play its role: a path-following column must not observe the
+    sonar (an obstacle-avoidance column given to PNN, SAC-Multi or as SPNN's first prior), and a
+    checkpoint that names the task it was trained on must have been trained on the planning
+    task's kind of path (a sine-path prior for the straight task, or the other way round)."""
+    from rov_envs.sim.tasks import TASKS, task_of_env
+    from sb3_pnn.progressive.prior_loading import load_prior, trained_env_id
+
+    try:
+        spec = load_prior(path).spec
+        trained_id = trained_env_id(path)
+    except (ValueError, FileNotFoundError) as error:
+        raise ZooUsageError(f"{role} prior for {algo} on {env_id}: {error}") from None
+    if role == "path-following" and "sonar" in spec.obs.keys:
+        raise ZooUsageError(
+            f"{role} prior for {algo} on {env_id}: {path} observes the sonar (an "
+            "obstacle-avoidance column); expected a model of a path-following task"
+        )
+    try:
+        target, trained = task_of_env(env_id), task_of_env(trained_id) if trained_id else None
+    except ValueError:
+        return  # not an rov_envs task: nothing to compare
+    if trained is None or role != "path-following" or trained.name not in TASKS:
+        return
+    if trained.path_kind != target.path_kind:
+        raise ZooUsageError(
+            f"{role} prior for {algo} on {env_id}: {path} was trained on {trained_id}, whose path "
+            f"is not {env_id}'s; expected a model of the same kind of path"
+        )

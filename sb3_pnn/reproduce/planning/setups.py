@@ -188,6 +188,16 @@ class TrainingSetup:
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
+        self._check_env_kwargs()
+
+    def _check_env_kwargs(self) -> None:
+        """Every task must accept the set-up's env keywords (a bad control period, say, is
+        refused here, before any run starts, not by every run of a study)."""
+        from rov_envs.sim.config import make_config
+        from rov_envs.sim.tasks import TASKS
+
+        for task in TASKS:
+            make_config(task, **self.train_env_kwargs())
 
     def env_kwargs(self) -> dict[str, Any]:
         """Environment keyword arguments shared by training and evaluation."""

@@ -27,6 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from sb3_pnn.common.atomic import write_atomic
 from sb3_pnn.reproduce.planning.plan import (  # noqa: E402
     AGENT_LABELS,
     AGENTS,
@@ -104,7 +105,7 @@ def _draw_scene(ax: Any, path: str, obstacles: list[Any]) -> None:
 
 def _save(fig: Any, folder: Path, name: str) -> str:
     fig.tight_layout()
-    fig.savefig(folder / name, dpi=110)
+    write_atomic(folder / name, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     plt.close(fig)
     return name
 

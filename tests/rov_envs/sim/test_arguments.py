@@ -40,6 +40,12 @@ BAD = [
     ("vehicle", "bluerov"),
     ("motion_obs", 1),
     ("colour", "red"),
+    ("control_period", "0.2"),  # a numeric string is a typo in a config, not a number
+    ("sonar_range", "25"),
+    ("start_noise", ("1", "0.1")),
+    ("los_lookahead", 0.1),
+    ("goal_distance", -5.0),
+    ("heading_rule", "sideways"),
 ]
 
 
@@ -64,7 +70,7 @@ def test_bad_argument_refused_by_batched_env() -> None:
 def test_bad_actions_refused() -> None:
     env = gym.make("rov_envs/PathFollowingStraight-v0").unwrapped
     env.reset(seed=0)
-    for bad in (5, -1, 2.7, None, "2", np.array([1, 2])):
+    for bad in (5, -1, 2.7, None, "2", np.array([1, 2]), [2], (2,), np.array([[2]]), True):
         with pytest.raises(ValueError, match="action"):
             env.step(bad)
     for good in (2, np.int64(2), np.array(2), np.array([2])):
@@ -153,3 +159,15 @@ def test_continuous_mapping_in_the_env(surge: float, yaw: float, row: int) -> No
         d_obs, d_r, *_ = disc.step(row)
     np.testing.assert_allclose(cont.unwrapped.state, disc.unwrapped.state, rtol=0, atol=1e-9)
     assert c_r == pytest.approx(d_r, abs=1e-9)
+
+
+def test_sb3_vec_env_names_a_wrong_action_shape() -> None:
+    from rov_envs import RovSB3VecEnv
+
+    venv = RovSB3VecEnv(3, "rov_envs/PlanningStraight-v0")
+    venv.reset()
+    for bad in (np.array([2, 2]), np.array([[2, 2, 2]]), np.array([2.0, 2.0, 2.0])):
+        with pytest.raises(ValueError, match="one per vehicle"):
+            venv.step(bad)
+    venv.step(np.array([2, 2, 2]))
+    venv.step(np.array([[2], [2], [2]]))

@@ -30,13 +30,21 @@ from sb3_pnn.reproduce.running.work import build_model
      (["--set", "updates=step:0"], "updates='step:0' is not allowed"),
      (["--set", "batch_size=0"], "batch_size=0 is not allowed: expected an integer >= 1"),
      (["--set", "batch_size=12.5"], "expected a value like batch_size=256"),
-     (["--set", "prior_batch_size=-1"], "prior_batch_size=-1 is not allowed")],
+     (["--set", "prior_batch_size=-1"], "prior_batch_size=-1 is not allowed"),
+     (["--set", "control_period=0"], "control_period=0.0 is not allowed"),
+     (["--set", "control_period=5"], "control_period=5.0 is not allowed")],
 )  # fmt: skip
 def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
         main([*argv, "--out", str(tmp_path)])
     assert exc.value.code == 2
     assert match in capsys.readouterr().err
+
+
+def test_report_only_of_a_folder_without_the_study(capsys, tmp_path) -> None:
+    assert main(["--report-only", "--quick", "--out", str(tmp_path)]) == 2
+    assert "holds no finished run of this study" in capsys.readouterr().err
+    assert not (tmp_path / "report.md").exists()
 
 
 def test_set_switch_takes_json_or_the_ablation_words() -> None:
