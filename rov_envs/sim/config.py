@@ -124,14 +124,15 @@ class EnvConfig:
     * ``path_obs``: observe the "path" part [a_c / pi, g / d_L] (default: the task's; True for
       every task but ObstacleAvoidance).
     * ``goal_obs``: observe the "goal" part [heading deviation from the bearing to the goal /
-      pi] (default: the task's; True for ObstacleAvoidance only).
-    * ``goal_distance``: the goal of the "goal" part: None (default) for the target point, or
-      D > 0 for the path point D m further along x than the closest one (the target once that
-      lies beyond the path's end), a goal that follows the route.
+      pi] (default: the task's; True for ObstacleAvoidance and the planning tasks).
+    * ``goal_distance``: the goal of the "goal" part: D > 0 for the route point D m further
+      along x than the closest one (the target once that lies beyond the path's end), default
+      25; None for the target point itself.
     * ``heading_rule``: what eq. 21's |a_c| >= pi/2 failure reads: ``"path"`` (the heading
       deviation a_c of ``heading_reference``, as the paper) or ``"goal"`` (the deviation from
       the goal's bearing: the episode fails when the vehicle turns away from where the route
-      goes); default: ``heading_reference``.
+      goes, not when a detour takes it off the LOS course); default: ``"goal"`` for the
+      planning tasks, ``heading_reference`` for the others.
     """
 
     task: TaskSpec
@@ -339,11 +340,11 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
         "path_obs": _boolean("path_obs", args.get("path_obs", task.path_obs)),
         "goal_obs": _boolean("goal_obs", args.get("goal_obs", task.goal_obs)),
     }
-    heading_rule = args.get("heading_rule", heading_reference)
+    heading_rule = args.get("heading_rule", task.heading_rule or heading_reference)
     if not isinstance(heading_rule, str) or heading_rule not in HEADING_REFERENCES:
         raise _bad("heading_rule", heading_rule, f"one of {list(HEADING_REFERENCES)}")
     out["heading_rule"] = heading_rule
-    goal_distance = args.get("goal_distance")
+    goal_distance = args.get("goal_distance", task.goal_distance)
     if goal_distance is not None:
         goal_distance = _in_range("goal_distance", goal_distance, 1.0, 1000.0, "m")
     out["goal_distance"] = goal_distance

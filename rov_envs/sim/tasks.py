@@ -25,8 +25,14 @@ REWARD_PROGRESS = 2
 #: The tasks' definition revision: raised whenever a task's observation, reward or ending
 #: changes, so that stored results made on an older definition are never reused as if current
 #: (sb3_pnn.reproduce hashes it into every run's configuration). 2: ObstacleAvoidance measures
-#: a_c from the bearing to the goal (2026-11-23).
-TASKS_REVISION = 2
+#: a_c from the bearing to the goal. 3: the "goal" observation part (ObstacleAvoidance observes
+#: it instead of "path", the planning tasks beside "path"), the goal a route point 25 m ahead,
+#: and the planning tasks' heading rule read from it.
+TASKS_REVISION = 3
+
+#: The default goal of the "goal" part and of the goal heading rule: the route point this many
+#: metres further along x than the closest one (the target once past the path's end).
+GOAL_DISTANCE = 25.0
 
 #: Heading references of a_c (``TaskSpec.heading_reference``, env argument ``heading_reference``).
 HEADING_REFERENCES = ("path", "goal")
@@ -61,7 +67,11 @@ class TaskSpec:
             |a_c| >= pi/2 failure) is measured from: ``"path"``, the LOS course of eq. 16
             (lookahead 5 m), or ``"goal"``, the bearing from the vehicle to the target point.
         path_obs, goal_obs: whether the observation has the "path" part [a_c / pi, g / d_L]
-            and the "goal" part [deviation from the bearing to the target / pi] by default.
+            and the "goal" part [deviation from the bearing to the goal / pi] by default.
+        heading_rule: what eq. 21's heading failure reads (None: ``heading_reference``'s a_c;
+            ``"goal"``: the deviation from the goal's bearing).
+        goal_distance: the goal of the "goal" part: the route point this many metres ahead
+            (None: the target point).
     """
 
     name: str
@@ -77,7 +87,14 @@ class TaskSpec:
     heading_reference: str = "path"
     path_obs: bool = True
     goal_obs: bool = False
+    heading_rule: str | None = None
+    goal_distance: float | None = GOAL_DISTANCE
 
+
+#: What the planning tasks share beyond the paper (TASKS_REVISION 3): the "goal" part beside
+#: "path", so that an obstacle-avoidance column reads what it was trained on, and eq. 21's
+#: heading rule read from the goal, so that a detour around obstacles is not a failure.
+PLANNING: dict[str, object] = {"goal_obs": True, "heading_rule": "goal"}
 
 TASKS: dict[str, TaskSpec] = {
     spec.name: spec
@@ -93,6 +110,8 @@ TASKS: dict[str, TaskSpec] = {
             layout="avoidance",
             sonar=True,
             heading_reference="goal",
+            path_obs=False,
+            goal_obs=True,
         ),
         TaskSpec(
             "PlanningStraight",
@@ -103,6 +122,7 @@ TASKS: dict[str, TaskSpec] = {
             layout="fixed",
             obstacles=PAPER_STRAIGHT_OBSTACLES,
             sonar=True,
+            **PLANNING,
         ),
         TaskSpec(
             "PlanningSine",
@@ -113,6 +133,7 @@ TASKS: dict[str, TaskSpec] = {
             layout="fixed",
             obstacles=PAPER_SINE_OBSTACLES,
             sonar=True,
+            **PLANNING,
         ),
         TaskSpec(
             "PlanningStraightUniform",
@@ -122,6 +143,7 @@ TASKS: dict[str, TaskSpec] = {
             200.0,
             layout="uniform",
             sonar=True,
+            **PLANNING,
         ),
         TaskSpec(
             "PlanningStraightDense",
@@ -131,6 +153,7 @@ TASKS: dict[str, TaskSpec] = {
             200.0,
             layout="dense",
             sonar=True,
+            **PLANNING,
         ),
         TaskSpec(
             "PlanningSineDense",
@@ -140,6 +163,7 @@ TASKS: dict[str, TaskSpec] = {
             120.0,
             layout="sine_dense",
             sonar=True,
+            **PLANNING,
         ),
     )
 }

@@ -219,6 +219,11 @@ def _run(model: Any, env: Any, args: argparse.Namespace) -> list[np.ndarray]:
             obs, _ = env.reset()
     if args.verbose > 0 and rewards:
         print(f"{len(rewards)} episodes, mean reward {np.mean(rewards):.2f}")
+    elif args.verbose > 0:
+        print(
+            f"No episode ended within {args.n_timesteps} steps (reward so far "
+            f"{episode_reward:.2f}; -n N runs longer)"
+        )
     if args.verbose > 0 and successes:
         print(f"Success rate: {100 * np.mean(successes):.2f}%")
     return frames

@@ -144,7 +144,8 @@ def resolve_priors(
 
 def check_prior_role(path: Path, role: str, algo: str, env_id: str) -> None:
     """Refuse a prior that cannot play its role: a path-following column must not observe the
-    sonar (an obstacle-avoidance column given to PNN, SAC-Multi or as SPNN's first prior), and a
+    sonar (an obstacle-avoidance column given to PNN or SAC-Multi; SPNN names swapped priors
+    itself), and a
     checkpoint that names the task it was trained on must have been trained on the planning
     task's kind of path (a sine-path prior for the straight task, or the other way round)."""
     from rov_envs.sim.tasks import TASKS, task_of_env
@@ -155,7 +156,7 @@ def check_prior_role(path: Path, role: str, algo: str, env_id: str) -> None:
         trained_id = trained_env_id(path)
     except (ValueError, FileNotFoundError) as error:
         raise ZooUsageError(f"{role} prior for {algo} on {env_id}: {error}") from None
-    if role == "path-following" and "sonar" in spec.obs.keys:
+    if role == "path-following" and algo != "spnn" and "sonar" in spec.obs.keys:
         raise ZooUsageError(
             f"{role} prior for {algo} on {env_id}: {path} observes the sonar (an "
             "obstacle-avoidance column); expected a model of a path-following task"

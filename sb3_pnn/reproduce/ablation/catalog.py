@@ -61,7 +61,7 @@ TASK_LABELS: dict[str, str] = {
 #: a lower target entropy).
 EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "vehicle": ("wu2018",),
-    "updates": ("step:4",),
+    "updates": ("step:1", "step:4"),
     "target_entropy_ratio": (0.2,),
 }
 #: Factors with no cell of their own, each with why and where it is measured instead.

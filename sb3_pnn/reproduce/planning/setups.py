@@ -69,6 +69,13 @@ Factors:
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
   only. Only SPNN runs read them.
+* ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
+  point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
+  "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
+  quantity it was trained on (off: every task observes the paper's [a_c, g]).
+* ``goal_distance``: how far ahead along the route the goal lies (None: the target point).
+* ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
+  a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.common.callbacks.VALIDATION_SEED`, apart from the evaluation's),
@@ -141,6 +148,9 @@ class TrainingSetup:
     spnn_d_th: float = PAPER_D_TH
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
+    goal_obs: bool = False
+    goal_distance: float | None = None
+    heading_rule: str = "path"
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -188,6 +198,10 @@ class TrainingSetup:
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
+        if self.heading_rule not in ("path", "goal"):
+            raise ValueError(
+                f"heading_rule={self.heading_rule!r} is not allowed: expected 'path' or 'goal'"
+            )
         self._check_env_kwargs()
 
     def _check_env_kwargs(self) -> None:
@@ -200,14 +214,22 @@ class TrainingSetup:
             make_config(task, **self.train_env_kwargs())
 
     def env_kwargs(self) -> dict[str, Any]:
-        """Environment keyword arguments shared by training and evaluation."""
-        return {
+        """Environment keyword arguments shared by training and evaluation (one set for every
+        task: the goal factors name a departure from the tasks' own defaults, which differ
+        by task, see :mod:`rov_envs.sim.tasks`)."""
+        kwargs: dict[str, Any] = {
             "vehicle": self.vehicle,
             "control_period": float(self.control_period),
             "motion_obs": bool(self.motion_obs),
             "success_reward": float(self.success_reward),
             "progress_weighted": bool(self.progress_weighted),
+            "goal_distance": None if self.goal_distance is None else float(self.goal_distance),
         }
+        if not self.goal_obs:  # every task observes "path" (and its sonar): the paper's state
+            kwargs.update(goal_obs=False, path_obs=True)
+        if self.heading_rule != "goal":  # eq. 21 as written: a_c of the path (the LOS course)
+            kwargs["heading_rule"] = self.heading_rule
+        return kwargs
 
     def train_env_kwargs(self) -> dict[str, Any]:
         """Keyword arguments of the training environment (start noise included)."""
@@ -337,7 +359,8 @@ PAPER = TrainingSetup()
 #: The study's default set-up (each departure from PAPER is measured in docs/ablation/).
 OURS = TrainingSetup(
     control_period=0.5,
-    updates="step:1",
+    updates="step:4",
+    prior_updates="step:1",
     train_start_noise=True,
     motion_obs=True,
     success_reward=200.0,
@@ -351,6 +374,9 @@ OURS = TrainingSetup(
     spnn_start_as_prior=True,
     spnn_sigma=1.0,
     spnn_own_weight=1.0,
+    goal_obs=True,
+    goal_distance=25.0,
+    heading_rule="goal",
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -380,6 +406,9 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_d_th": "SPNN switch distance d_th (m)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
+    "goal_obs": "goal part observed (avoidance reads it instead of the path)",
+    "goal_distance": "goal: route point ahead (m)",
+    "heading_rule": "heading rule of the planning tasks reads",
 }
 
 
@@ -404,6 +433,10 @@ def describe_value(name: str, value: Any) -> str:
         if unit == "episode":
             return f"{steps} per episode"
         return "1 per step" if freq == 1 else f"1 per {freq} steps"
+    if name == "goal_distance":
+        return "the target point" if value is None else f"{value:g} m ahead"
+    if name == "heading_rule":
+        return {"path": "the path's a_c (LOS)", "goal": "the goal's bearing"}.get(value, value)
     if name == "net_arch":
         return "[" + ", ".join(str(w) for w in value) + "]"
     if name in PER_PATH_FACTORS:

@@ -52,7 +52,8 @@ def test_each_cell_changes_one_factor_of_its_base() -> None:
         assert any(c.name.startswith(f"ours+{factor}=") for c in cells)
     # the issue's factors: the vehicle, and 1 update per k steps
     assert CELLS["paper+vehicle=wu2018"].setup.vehicle == "wu2018"
-    assert parse_updates(CELLS["ours+updates=step:4"].setup.updates) == ((4, "step"), 1)
+    assert parse_updates(CELLS["paper+updates=step:4"].setup.updates) == ((4, "step"), 1)
+    assert parse_updates(CELLS["ours+updates=step:1"].setup.updates) == ((1, "step"), 1)
 
 
 def test_plan_priors_per_cell_and_before_use() -> None:
@@ -89,25 +90,23 @@ def test_bad_config_refused(bad, match) -> None:
         AblationConfig(**bad)
 
 
-STUDY_NO_NOISE = "ours+updates=step:4+prior_updates=step:1+train_start_noise=off"
+STUDY_NO_NOISE = "ours+goal_obs=off+train_start_noise=off"
 
 
 def test_composite_cell_is_its_base_with_each_factor_changed() -> None:
-    """The study's own set-up with one more factor put back: a cell the catalog lacks."""
+    """The study's own set-up with two factors put back: a cell the catalog lacks."""
     cell = cell_of(STUDY_NO_NOISE)
-    assert cell.setup == OURS.with_(
-        updates="step:4", prior_updates="step:1", train_start_noise=False
-    )
+    assert cell.setup == OURS.with_(goal_obs=False, train_start_noise=False)
     assert cell.describe() == (
-        "ours with update schedule 1 per 4 steps, update schedule of the source columns "
-        "1 per step, training start noise off"
+        "ours with training start noise off, goal part observed (avoidance reads it instead "
+        "of the path) off"
     )
     # the catalog's words and the --set spellings name the same set-up; a catalog name is the
     # catalog's cell
     assert cell_of("ours+net_arch=255x255").setup == cell_of("ours+net_arch=[255,255]").setup
     assert cell_of("paper+vehicle=wu2018") is CELLS["paper+vehicle=wu2018"]
     # its planning runs learn at 1 update per 4 steps from its own seed-0 columns, trained at
-    # 1 per step without start noise
+    # 1 per step without start noise, none of them observing the goal part
     plan = build_ablation_plan(
         AblationConfig("tiny", seeds=2, cells=(STUDY_NO_NOISE,), tasks=("planning_straight",))
     )
@@ -118,6 +117,7 @@ def test_composite_cell_is_its_base_with_each_factor_changed() -> None:
     for dep in spnn.deps:
         assert by_id[dep].sac_kwargs["train_freq"] == [1, "step"]
         assert by_id[dep].env_kwargs["start_noise"] == [0.0, 0.0]
+        assert by_id[dep].env_kwargs["goal_obs"] is False
 
 
 def test_planning_sine_only_when_asked_for(tmp_path) -> None:
@@ -134,10 +134,8 @@ def test_planning_sine_only_when_asked_for(tmp_path) -> None:
     assert by_id[spnn.deps[0]].env_id == "rov_envs/PathFollowingSine-v0"
     # the study's own set-up on the sine path trains the 5-seed study's SPNN run, field for field
     # (so the study's runs are that cell's rows without retraining them)
-    cell = "ours+updates=step:4+prior_updates=step:1"
-    ablation = build_ablation_plan(AblationConfig("full", 1, (cell,), ("planning_sine",)))
-    changes = (("updates", "step:4"), ("prior_updates", "step:1"))
-    study = {spec.run_id: spec for spec in build_plan(StudyConfig(seeds=1, setup_changes=changes))}
+    ablation = build_ablation_plan(AblationConfig("full", 1, ("ours",), ("planning_sine",)))
+    study = {spec.run_id: spec for spec in build_plan(StudyConfig(seeds=1))}
     pairs = [(ablation[-1], study["spnn-sine-s0"])]
     pairs += [(a, study[f"prior-{a.run_id.split('-')[1]}-s0"]) for a in ablation[:-1]]
     for mine, theirs in pairs:
@@ -164,7 +162,7 @@ def test_composite_cell_row_in_the_report(tmp_path) -> None:
     report = (out / "report.md").read_text()
     assert f"--cells {STUDY_NO_NOISE} " in report  # the command that made it
     row = next(line for line in report.splitlines() if line.startswith(f"| `{STUDY_NO_NOISE}`"))
-    assert "| ours with update schedule 1 per 4 steps, update schedule of the source " in row
+    assert "| ours with training start noise off, goal part observed " in row
     assert row.endswith(" |") and "100 % [" in row  # stand-in SPNN: 90 % of 2 episodes
 
 
@@ -215,7 +213,7 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     assert main(argv, work=fake_work) == 0
     report = (out / "report.md").read_text()
     assert "Made by: `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2" in report
-    assert "| update schedule | 10 per episode | 1 per step |" in report
+    assert "| update schedule | 10 per episode | 1 per 4 steps |" in report
     # stand-ins: DiscreteSAC evaluates 60 %, SPNN 90 %, of 2 episodes per seed; seed s trains
     # for 60 (1 + s) s, so 1.5 min on average; the CPU time is the executor's own measurement
     assert "| `paper` | paper (see the set-up table) | 50 % [15, 85] (seeds: 50, 50 %);" in report

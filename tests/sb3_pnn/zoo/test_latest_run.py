@@ -20,10 +20,25 @@ PF = PF_ENV.replace("/", "-")
 PLAN = PLAN_ENV.replace("/", "-")
 
 
+def _tiny_model() -> bytes:
+    """A real path-following model file (priors are read before they are used)."""
+    import io
+
+    import gymnasium as gym
+
+    from sb3_pnn import DiscreteSAC
+
+    buffer = io.BytesIO()
+    env = gym.make(PF_ENV, control_period=0.5, motion_obs=True)
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [4]}, seed=0).save(buffer)
+    return buffer.getvalue()
+
+
 def make_runs(algo_folder: Path, name: str, with_model: list[int], empty: list[int]) -> None:
+    model = _tiny_model() if with_model and name == PF else b"model"
     for n in with_model:
         (algo_folder / f"{name}_{n}").mkdir(parents=True)
-        (algo_folder / f"{name}_{n}" / f"{name}.zip").write_bytes(b"model")
+        (algo_folder / f"{name}_{n}" / f"{name}.zip").write_bytes(model)
     for n in empty:
         (algo_folder / f"{name}_{n}").mkdir(parents=True)
 
