@@ -27,6 +27,7 @@ from typing import Any
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.reproduce.planning.plan import BUDGETS, StudyConfig, build_plan
 from sb3_pnn.reproduce.planning.setups import SETUPS, parse_setup_changes
+from sb3_pnn.reproduce.running.executor import add_executor_arguments, pool_from_arguments
 from sb3_pnn.reproduce.running.store import (
     RunStore,
     StudyConflictError,
@@ -72,12 +73,7 @@ def make_parser() -> argparse.ArgumentParser:
         help=f"training seeds per agent and task (default {DEFAULT_SEEDS['full']}; "
         f"{DEFAULT_SEEDS['quick']} with --quick)",
     )
-    parser.add_argument(
-        "--jobs",
-        type=positive_int("--jobs"),
-        default=os.cpu_count() or 1,
-        help="runs in parallel (default: number of cores)",
-    )
+    add_executor_arguments(parser)
     parser.add_argument(
         "--out", default=None, help=f"output folder (default {DEFAULT_OUT}, or results/quick)"
     )
@@ -200,9 +196,16 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
         if work is None:
             from sb3_pnn.reproduce.running.work import run_work as work
         plan = build_plan(config)
+        pool, jobs = None, args.jobs or os.cpu_count() or 1
+        if not args.report_only:
+            try:
+                pool, jobs = pool_from_arguments(args, store, work)
+            except RuntimeError as error:  # Ray missing, unreachable or without a free CPU
+                print(f"{parser.prog}: error: {error}", file=sys.stderr)
+                return 2
         print(
             f"study: {len(plan)} runs ({config.budget_name} budget, {config.seeds} seed(s), "
-            f"--jobs {args.jobs}) in {os.fspath(out)}",
+            f"--jobs {jobs}, {args.executor} executor) in {os.fspath(out)}",
             flush=True,
         )
         if args.report_only:
@@ -213,17 +216,17 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
                     file=sys.stderr,
                 )
                 return 2
-            report = finish(out, config, plan, store, args.jobs)
+            report = finish(out, config, plan, store, jobs)
             print(f"report: {os.fspath(report.resolve())}", flush=True)
             return 0
         started = time.time()
         try:
-            summary = execute(plan, store, work, args.jobs, quiet=args.no_progress)
+            summary = execute(plan, store, work, jobs, quiet=args.no_progress, pool=pool)
         except StudyConflictError as error:
             print(f"error: {error}", file=sys.stderr)
             return 2
         sessions = _load_sessions(out)
-        sessions.append(summary.session_record(started, args.jobs))
+        sessions.append(summary.session_record(started, jobs, args.executor))
         write_json_atomic(out / SESSIONS, sessions)
         if summary.stopped:
             print(
@@ -240,7 +243,7 @@ def main(argv: Sequence[str] | None = None, work: Any = None) -> int:
             flush=True,
         )
         drawing = time.time()
-        report = finish(out, config, plan, store, args.jobs)
+        report = finish(out, config, plan, store, jobs)
         print(
             f"figures and report drawn in {time.time() - drawing:.0f} s; "
             f"total {(time.time() - started) / 60:.1f} min",

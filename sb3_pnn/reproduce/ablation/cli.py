@@ -32,6 +32,7 @@ from sb3_pnn.reproduce.ablation.catalog import (
     build_ablation_plan,
     cell_of,
 )
+from sb3_pnn.reproduce.running.executor import add_executor_arguments
 from sb3_pnn.reproduce.running.store import (
     StudyConflictError,
     open_store_or_exit,
@@ -80,9 +81,7 @@ def make_parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--seeds", type=positive_int("--seeds"), default=3, help="seeds per cell (default 3)"
     )
-    parser.add_argument(
-        "--jobs", type=positive_int("--jobs"), default=os.cpu_count() or 1, help="runs in parallel"
-    )
+    add_executor_arguments(parser)
     parser.add_argument("--out", default=DEFAULT_OUT, help=f"folder (default {DEFAULT_OUT})")
     parser.add_argument(
         "--cells",
@@ -110,7 +109,7 @@ def main(argv: Sequence[str], work: Any = None) -> int:
     """Entry point (``argv`` without ``--ablation``); ``work`` replaces the real run (tests)."""
     from sb3_pnn.common.atomic import write_text_atomic
     from sb3_pnn.reproduce.ablation.report import render_report
-    from sb3_pnn.reproduce.running.executor import execute
+    from sb3_pnn.reproduce.running.executor import execute, pool_from_arguments
     from sb3_pnn.reproduce.running.results import load_results
 
     parser = make_parser()
@@ -135,12 +134,17 @@ def main(argv: Sequence[str], work: Any = None) -> int:
         if not args.report_only:
             if work is None:
                 from sb3_pnn.reproduce.running.work import run_work as work
+            try:
+                pool, jobs = pool_from_arguments(args, store, work)
+            except RuntimeError as error:  # Ray missing, unreachable or without a free CPU
+                parser.exit(2, f"{parser.prog}: error: {error}\n")
             started = time.time()
             try:
-                summary = execute(plan, store, work, args.jobs, quiet=args.no_progress)
+                summary = execute(plan, store, work, jobs, quiet=args.no_progress, pool=pool)
             except StudyConflictError as error:
                 parser.exit(2, f"error: {error}\n")
-            sessions.append({**summary.session_record(started, args.jobs), "command": command})
+            record = summary.session_record(started, jobs, args.executor)
+            sessions.append({**record, "command": command})
             write_json_atomic(sessions_path, sessions)
             if summary.stopped:
                 print(

@@ -45,12 +45,13 @@ class ExecutionSummary:
     wall_s: float = 0.0
     stopped: bool = False  # ended by Ctrl-C before every run was done
 
-    def session_record(self, started: float, jobs: int) -> dict[str, Any]:
+    def session_record(self, started: float, jobs: int, executor: str = "local") -> dict[str, Any]:
         """What sessions.json keeps of this invocation (started: its ``time.time()``)."""
         record: dict[str, Any] = {
             "started": started,
             "wall_s": time.time() - started,
             "jobs": jobs,
+            "executor": executor,
             "runs_done": len(self.done),
             "runs_skipped_finished": len(self.skipped_finished),
             "runs_failed": len(self.failed),
@@ -123,6 +124,107 @@ def _progress(total: int, initial: int, quiet: bool) -> Any:
     )
 
 
+class LocalPool:
+    """Runs in a local process pool (``spawn`` context); each run commits itself in its worker
+    (:func:`run_one`), so that a run orphaned by a killed study still commits or leaves
+    nothing."""
+
+    def __init__(self, store: RunStore, work: WorkFn, jobs: int) -> None:
+        self.store, self.work = store, work
+        self._pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context("spawn"))
+
+    def submit(self, spec: RunSpec) -> Future:
+        return self._pool.submit(run_one, self.work, spec.to_dict(), os.fspath(self.store.out))
+
+    def wait(self, handles: list[Any]) -> list[Any]:
+        done, _ = wait(handles, return_when=FIRST_COMPLETED)
+        return list(done)
+
+    def outcome(self, handle: Future, spec: RunSpec) -> tuple[str, str]:
+        """(status, error) of a finished run: "done", "kept_existing" or "failed"."""
+        try:
+            _, status, error = handle.result()
+        except BaseException as exc:  # noqa: BLE001 - a worker died
+            status, error = "failed", f"worker process failed: {exc!r}"
+            self.store.fail(spec, None, error)
+        return status, error
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=True, cancel_futures=True)
+
+
+class _Schedule:
+    """The state of one invocation: which runs are pending, running and finished."""
+
+    def __init__(self, plan: list[RunSpec], store: RunStore, quiet: bool) -> None:
+        self.by_id = {spec.run_id: spec for spec in plan}
+        self.summary = ExecutionSummary()
+        self.finished = {spec.run_id for spec in plan if store.is_done(spec)}
+        self.summary.skipped_finished = [s.run_id for s in plan if s.run_id in self.finished]
+        self.pending = [spec for spec in plan if spec.run_id not in self.finished]
+        self.running: dict[Any, str] = {}
+        self.started = 0
+        self.quiet = quiet
+        self.bar = _progress(len(plan), len(self.finished), quiet)
+
+    def block_failed_dependents(self) -> None:
+        """Skip (transitively) the runs whose dependency failed."""
+        summary = self.summary
+        for spec in list(self.pending):
+            bad = [d for d in spec.deps if d in summary.failed or d in summary.blocked]
+            if bad:
+                summary.blocked[spec.run_id] = bad[0]
+                self.pending.remove(spec)
+                self.bar.update(1)
+
+    def ready(self) -> list[RunSpec]:
+        return [s for s in self.pending if all(d in self.finished for d in s.deps)]
+
+    def settle(self, run_id: str, status: str, error: str) -> None:
+        if status == "failed":
+            self.summary.failed[run_id] = error
+            if not self.quiet:
+                self.bar.write(f"run {run_id} FAILED: {error.strip().splitlines()[-1]}")
+        else:
+            self.finished.add(run_id)
+            self.summary.done.append(run_id)
+        self.bar.update(1)
+
+
+def _check_plan(plan: list[RunSpec], jobs: int) -> None:
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs={jobs!r} is not allowed: expected an integer >= 1")
+    ids = [spec.run_id for spec in plan]
+    if len(set(ids)) != len(ids):
+        raise ValueError("the plan has duplicate run ids")
+    known = set(ids)
+    for spec in plan:
+        for dep in spec.deps:
+            if dep not in known:
+                raise ValueError(
+                    f"run {spec.run_id!r} depends on {dep!r}, which is not in the plan"
+                )
+
+
+def _launch(schedule: _Schedule, pool: Any, jobs: int, max_new_runs: int | None) -> None:
+    """Submit ready runs while fewer than ``jobs`` are running."""
+    for spec in schedule.ready():
+        if len(schedule.running) >= jobs:
+            break
+        if max_new_runs is not None and schedule.started >= max_new_runs:
+            break
+        schedule.pending.remove(spec)
+        try:
+            handle = pool.submit(spec)
+        except BrokenProcessPool as exc:  # a worker died: this run cannot start
+            error = f"worker pool broken: {exc}"
+            pool.store.fail(spec, None, error)
+            schedule.settle(spec.run_id, "failed", error)
+            continue
+        schedule.running[handle] = spec.run_id
+        schedule.started += 1
+
+
 def execute(
     plan: list[RunSpec],
     store: RunStore,
@@ -130,85 +232,81 @@ def execute(
     jobs: int,
     quiet: bool = False,
     max_new_runs: int | None = None,
+    pool: Any = None,
 ) -> ExecutionSummary:
     """Run every unfinished run of ``plan`` (see the module docstring).
 
+    :param pool: where the runs run: None for a :class:`LocalPool` of ``jobs`` processes, or
+        another pool with the same methods (:class:`sb3_pnn.reproduce.running.ray_pool.RayPool`),
+        of which at most ``jobs`` runs are in flight
     :param max_new_runs: stop submitting after this many runs were started (tests use it to
         simulate an interrupted study); None = all.
     """
-    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-        raise ValueError(f"jobs={jobs!r} is not allowed: expected an integer >= 1")
-    ids = [spec.run_id for spec in plan]
-    if len(set(ids)) != len(ids):
-        raise ValueError("the plan has duplicate run ids")
-    by_id = {spec.run_id: spec for spec in plan}
-    for spec in plan:
-        for dep in spec.deps:
-            if dep not in by_id:
-                raise ValueError(
-                    f"run {spec.run_id!r} depends on {dep!r}, which is not in the plan"
-                )
-    summary = ExecutionSummary()
+    _check_plan(plan, jobs)
     start = time.time()
-    finished: set[str] = set()
-    for spec in plan:
-        if store.is_done(spec):
-            finished.add(spec.run_id)
-            summary.skipped_finished.append(spec.run_id)
-    pending = [spec for spec in plan if spec.run_id not in finished]
-    bar = _progress(len(plan), len(finished), quiet)
-    running: dict[Future, str] = {}
-    started = 0
-    ctx = mp.get_context("spawn")
+    schedule = _Schedule(plan, store, quiet)
     try:
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            while pending or running:
-                # block runs whose dependency failed (transitively)
-                for spec in list(pending):
-                    bad = [d for d in spec.deps if d in summary.failed or d in summary.blocked]
-                    if bad:
-                        summary.blocked[spec.run_id] = bad[0]
-                        pending.remove(spec)
-                        bar.update(1)
-                ready = [s for s in pending if all(d in finished for d in s.deps)]
-                for spec in ready:
-                    if len(running) >= jobs:
-                        break
-                    if max_new_runs is not None and started >= max_new_runs:
-                        break
-                    try:
-                        future = pool.submit(run_one, work, spec.to_dict(), os.fspath(store.out))
-                    except BrokenProcessPool as exc:  # a worker died: this run cannot start
-                        summary.failed[spec.run_id] = f"worker pool broken: {exc}"
-                        store.fail(spec, None, summary.failed[spec.run_id])
-                        pending.remove(spec)
-                        bar.update(1)
-                        continue
-                    running[future] = spec.run_id
-                    pending.remove(spec)
-                    started += 1
-                bar.set_postfix_str(f"running: {', '.join(sorted(running.values()))}"[:120])
-                if not running:
+        pool = pool if pool is not None else LocalPool(store, work, jobs)
+        try:
+            while schedule.pending or schedule.running:
+                schedule.block_failed_dependents()
+                _launch(schedule, pool, jobs, max_new_runs)
+                names = ", ".join(sorted(schedule.running.values()))
+                schedule.bar.set_postfix_str(f"running: {names}"[:120])
+                if not schedule.running:
                     break  # nothing can start (limit reached or all blocked)
-                done, _ = wait(list(running), return_when=FIRST_COMPLETED)
-                for future in done:
-                    run_id = running.pop(future)
-                    try:
-                        _, status, error = future.result()
-                    except BaseException as exc:  # noqa: BLE001 - a worker died
-                        status, error = "failed", f"worker process failed: {exc!r}"
-                        store.fail(by_id[run_id], None, error)
-                    if status == "failed":
-                        summary.failed[run_id] = error
-                        if not quiet:
-                            bar.write(f"run {run_id} FAILED: {error.strip().splitlines()[-1]}")
-                    else:
-                        finished.add(run_id)
-                        summary.done.append(run_id)
-                    bar.update(1)
-    except KeyboardInterrupt:  # the pool has let its runs in flight end (module docstring)
-        summary.stopped = True
+                for handle in pool.wait(list(schedule.running)):
+                    run_id = schedule.running.pop(handle)
+                    schedule.settle(run_id, *pool.outcome(handle, schedule.by_id[run_id]))
+        finally:
+            pool.close()
+    except KeyboardInterrupt:  # the runs in flight have ended or been cancelled (docstring)
+        schedule.summary.stopped = True
     finally:
-        bar.close()
-    summary.wall_s = time.time() - start
-    return summary
+        schedule.bar.close()
+    schedule.summary.wall_s = time.time() - start
+    return schedule.summary
+
+
+def add_executor_arguments(parser: Any) -> None:
+    """``--jobs``, ``--executor`` and ``--ray-address`` of the study and ablation commands."""
+    from sb3_pnn.common.checks import positive_int
+
+    parser.add_argument(
+        "--jobs",
+        type=positive_int("--jobs"),
+        default=None,
+        help="runs in parallel (default: this machine's cores; with --executor ray, the "
+        "cluster's CPUs)",
+    )
+    parser.add_argument(
+        "--executor",
+        choices=("local", "ray"),
+        default="local",
+        help="where the runs run: a local process pool (default) or a Ray cluster (one task "
+        "per run; pip install 'sb3-pnn[ray]'; see docs/ray.md)",
+    )
+    parser.add_argument(
+        "--ray-address",
+        default=None,
+        metavar="ADDRESS",
+        help="with --executor ray: the cluster's head, HOST:PORT (default: a Ray instance of "
+        "this machine's cores)",
+    )
+
+
+def pool_from_arguments(args: Any, store: RunStore, work: WorkFn) -> tuple[Any, int]:
+    """(the pool ``args`` ask for, None for the local pool; the runs to keep in flight).
+    Joins the Ray cluster here, before any run starts; ``RayUnavailableError`` (a
+    ``RuntimeError``) names why it cannot."""
+    if args.executor == "local":
+        if args.ray_address is not None:
+            from sb3_pnn.reproduce.running.ray_pool import RayUnavailableError
+
+            raise RayUnavailableError("--ray-address goes with --executor ray")
+        return None, args.jobs or os.cpu_count() or 1
+    from sb3_pnn.reproduce.running.ray_pool import RayPool, connect
+
+    ray = connect(args.ray_address)
+    cpus = int(ray.cluster_resources().get("CPU", 1))
+    return RayPool(store, work, ray), args.jobs or cpus

@@ -159,3 +159,13 @@ def test_tiny_real_study_end_to_end(tmp_path) -> None:
     assert "failed: 0" in report
     assert (out / "figures" / "fig20_success_rates.png").is_file()
     assert (out / "runs" / "spnn-sine-s0" / "model.zip").is_file()
+
+
+def test_ray_executor_without_ray_installed(monkeypatch, capsys, tmp_path) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray -> ImportError
+    assert main(["--quick", "--executor", "ray", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "pip install 'sb3-pnn[ray]'" in err[0]
+    assert not list((tmp_path / "runs").glob("*"))
