@@ -63,13 +63,16 @@ def plot_runs(
     config: EnvConfig | None = None,
     obstacles: np.ndarray | None = None,
     title: str | None = None,
-    dt: float = CONTROL_PERIOD,
+    dt: float | None = None,
 ) -> Figure:
     """Trajectory (top), heading deviation a_c in degrees and distance from the route g (m).
 
     ``config`` (``env.unwrapped.config``) draws the path and the |g| = d_L corridor;
-    ``obstacles`` (M, 3) draws the obstacles with their 2 m collision margin.
+    ``obstacles`` (M, 3) draws the obstacles with their 2 m collision margin; ``dt``, the
+    seconds between records, defaults to the config's control period.
     """
+    if dt is None:
+        dt = config.dt if config is not None else CONTROL_PERIOD
     if len(runs) == 0:
         raise ValueError("runs=[] is not allowed: expected at least one run")
     if labels is not None and len(labels) != len(runs):

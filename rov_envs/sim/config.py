@@ -20,8 +20,13 @@ from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.sim.tasks import HEADING_REFERENCES, PATH_SINE, TASKS, TaskSpec
 
-#: Control period (s): one environment step, the physics' default (0.2 s, 4 ETDRK4 substeps).
-CONTROL_PERIOD = DEFAULT_CONTROL_PERIOD
+#: Control period (s) of one environment step by default: 0.5 s (the paper gives none; the
+#: physics integrates it in substeps of at most 0.05 s). Read literally the paper's set-up in
+#: this package runs 0.2 s (``DEFAULT_CONTROL_PERIOD``, 4 substeps).
+CONTROL_PERIOD = 0.5
+#: Start-pose perturbation by default: (position std in m, heading std in rad), 1 m and 5 deg,
+#: as in evaluation (the paper starts every episode at exactly (0, 0)).
+START_NOISE = (1.0, math.radians(5.0))
 #: Shortest and longest control periods accepted (s) (``control_period``).
 CONTROL_PERIOD_RANGE = (0.05, 1.0)
 #: Longest integrator substep (s): the physics' default, 0.2 s in 4 substeps.
@@ -93,7 +98,7 @@ class EnvConfig:
       (default ``(0, 0)``).
     * ``sonar_noise``: std (m) of Gaussian noise on each sonar return (default 0).
     * ``start_noise``: ``(position_std_m, heading_std_rad)`` of the Gaussian perturbation of the
-      start pose (default ``(0, 0)``: the paper's exact start).
+      start pose (default ``(1, 5 deg)``; ``(0, 0)``: the paper's exact start).
     * ``length``: path length along x (m); ``amplitude``, ``wavelength``: the sine path's shape
       (m). Default: the task's (200 m line; y = 15 sin(2 pi x / 120) over 120 m).
     * ``sonar_sectors`` (q, default 9), ``sonar_span`` (S, rad, default pi, centred ahead),
@@ -108,11 +113,12 @@ class EnvConfig:
     * ``vehicle``: the BlueROV2 parameter set, ``"uuv_simulator"`` (default, the paper's Gazebo
       model) or ``"wu2018"`` (Wu 2018), see :mod:`rov_envs.physics.params`.
     * ``motion_obs``: add the ``"motion"`` part (body-frame sway v in m/s and yaw rate r in
-      rad/s, clipped to +-3 and +-2) to the observation (default False).
-    * ``control_period``: seconds per environment step, in [0.05, 1] (default 0.2); the physics
+      rad/s, clipped to +-3 and +-2) to the observation (default True; the paper's state has
+      no such part).
+    * ``control_period``: seconds per environment step, in [0.05, 1] (default 0.5); the physics
       takes as many substeps as keep each at most 0.05 s.
     * ``progress_weighted``: pay r_c of eq. 18/19 (when positive) in proportion to the step's
-      progress along the path, as a fraction of 1 m/s (default False; not in the paper, see
+      progress along the path, as a fraction of 1 m/s (default True; not in the paper, see
       :mod:`rov_envs.sim.rewards`).
     * ``heading_reference``: ``"path"`` (a_c from the LOS course, eq. 16) or ``"goal"`` (a_c
       from the bearing to the target point), for the "path" part and eq. 21's heading rule;
@@ -139,7 +145,7 @@ class EnvConfig:
     obstacles: np.ndarray | None = None
     current: tuple[float, float] = (0.0, 0.0)
     sonar_noise: float = 0.0
-    start_noise: tuple[float, float] = (0.0, 0.0)
+    start_noise: tuple[float, float] = START_NOISE
     length: float | None = None
     amplitude: float | None = None
     wavelength: float | None = None
@@ -151,9 +157,9 @@ class EnvConfig:
     render_mode: str | None = None
     success_reward: float = 200.0
     vehicle: str = DEFAULT_VEHICLE
-    motion_obs: bool = False
+    motion_obs: bool = True
     control_period: float = CONTROL_PERIOD
-    progress_weighted: bool = False
+    progress_weighted: bool = True
     heading_reference: str | None = None
     los_lookahead: float = DEFAULT_LOOKAHEAD
     path_obs: bool | None = None
@@ -217,6 +223,8 @@ class EnvConfig:
 
 #: The keyword arguments of every task: the fields of :class:`EnvConfig` but ``task``.
 ARGUMENTS: tuple[str, ...] = tuple(f.name for f in fields(EnvConfig) if f.name != "task")
+#: Their defaults (None: the task's).
+DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(EnvConfig) if f.name != "task"}
 
 
 def _obstacles(value: Any) -> np.ndarray:
@@ -276,20 +284,24 @@ def _check_path(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
 
 
 def _check_world(args: dict[str, Any]) -> dict[str, Any]:
-    current = _pair("current", args.get("current", (0.0, 0.0)), "(vx, vy) finite floats in m/s")
+    current = _pair(
+        "current", args.get("current", DEFAULTS["current"]), "(vx, vy) finite floats in m/s"
+    )
     if math.hypot(*current) > 2.0:
         raise _bad("current", args["current"], "(vx, vy) with speed <= 2 m/s")
     start_noise = _pair(
         "start_noise",
-        args.get("start_noise", (0.0, 0.0)),
+        args.get("start_noise", DEFAULTS["start_noise"]),
         "(position_std_m, heading_std_rad), both finite and >= 0",
         nonneg=True,
     )
-    vehicle = args.get("vehicle", DEFAULT_VEHICLE)
+    vehicle = args.get("vehicle", DEFAULTS["vehicle"])
     if not isinstance(vehicle, str) or vehicle not in VEHICLES:
         raise _bad("vehicle", vehicle, f"one of {list(VEHICLES)}")
     lo, hi = CONTROL_PERIOD_RANGE
-    period = _in_range("control_period", args.get("control_period", CONTROL_PERIOD), lo, hi, "s")
+    period = _in_range(
+        "control_period", args.get("control_period", DEFAULTS["control_period"]), lo, hi, "s"
+    )
     return {
         "current": current,
         "start_noise": start_noise,
@@ -300,17 +312,21 @@ def _check_world(args: dict[str, Any]) -> dict[str, Any]:
 
 def _check_sonar(args: dict[str, Any]) -> dict[str, Any]:
     sonar_noise = _finite_float(
-        "sonar_noise", args.get("sonar_noise", 0.0), "a finite float >= 0 (m)"
+        "sonar_noise", args.get("sonar_noise", DEFAULTS["sonar_noise"]), "a finite float >= 0 (m)"
     )
     if sonar_noise < 0:
         raise _bad("sonar_noise", sonar_noise, "a finite float >= 0 (m)")
-    q = args.get("sonar_sectors", SONAR_SECTORS)
+    q = args.get("sonar_sectors", DEFAULTS["sonar_sectors"])
     if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or not 1 <= q <= MAX_SECTORS:
         raise _bad("sonar_sectors", q, f"an int in [1, {MAX_SECTORS}]")
-    span = _finite_float("sonar_span", args.get("sonar_span", SONAR_SPAN), "a float in (0, 2 pi]")
+    span = _finite_float(
+        "sonar_span", args.get("sonar_span", DEFAULTS["sonar_span"]), "a float in (0, 2 pi]"
+    )
     if not 0.0 < span <= 2.0 * math.pi + 1e-12:
         raise _bad("sonar_span", span, "a float in (0, 2 pi] (rad)")
-    sonar_range = _finite_float("sonar_range", args.get("sonar_range", SONAR_RANGE), "a float > 0")
+    sonar_range = _finite_float(
+        "sonar_range", args.get("sonar_range", DEFAULTS["sonar_range"]), "a float > 0"
+    )
     if sonar_range <= 0:
         raise _bad("sonar_range", sonar_range, "a float > 0 (m)")
     return {
@@ -330,12 +346,12 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     if not isinstance(heading_reference, str) or heading_reference not in HEADING_REFERENCES:
         raise _bad("heading_reference", heading_reference, f"one of {list(HEADING_REFERENCES)}")
     out = {
-        "continuous": _boolean("continuous", args.get("continuous", False)),
-        "motion_obs": _boolean("motion_obs", args.get("motion_obs", False)),
+        "continuous": _boolean("continuous", args.get("continuous", DEFAULTS["continuous"])),
+        "motion_obs": _boolean("motion_obs", args.get("motion_obs", DEFAULTS["motion_obs"])),
         "render_mode": render_mode,
         "heading_reference": heading_reference,
         "los_lookahead": _in_range(
-            "los_lookahead", args.get("los_lookahead", DEFAULT_LOOKAHEAD), 0.5, 100.0, "m"
+            "los_lookahead", args.get("los_lookahead", DEFAULTS["los_lookahead"]), 0.5, 100.0, "m"
         ),
         "path_obs": _boolean("path_obs", args.get("path_obs", task.path_obs)),
         "goal_obs": _boolean("goal_obs", args.get("goal_obs", task.goal_obs)),
@@ -357,13 +373,17 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
 
 def _check_reward(args: dict[str, Any]) -> dict[str, Any]:
     success_reward = _finite_float(
-        "success_reward", args.get("success_reward", 200.0), "a finite float >= 0"
+        "success_reward",
+        args.get("success_reward", DEFAULTS["success_reward"]),
+        "a finite float >= 0",
     )
     if success_reward < 0:
         raise _bad("success_reward", success_reward, "a finite float >= 0")
     return {
         "success_reward": success_reward,
-        "progress_weighted": _boolean("progress_weighted", args.get("progress_weighted", False)),
+        "progress_weighted": _boolean(
+            "progress_weighted", args.get("progress_weighted", DEFAULTS["progress_weighted"])
+        ),
     }
 
 

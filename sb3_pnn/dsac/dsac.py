@@ -47,6 +47,7 @@ from torch.nn import functional as F
 
 from sb3_pnn.common.checks import check_step_budget
 from sb3_pnn.dsac.policies import (
+    PAPER_NET_ARCH,
     DiscreteActor,
     DiscreteCritic,
     DiscreteSACPolicy,
@@ -151,10 +152,14 @@ class DiscreteSAC(OffPolicyAlgorithm):
     """
     Soft Actor-Critic for discrete action spaces (Christodoulou 2019; the paper's SAC, eq. (14)).
 
-    Defaults are the paper's Tables 2-3: networks [255, 255] (ReLU), learning rate 3e-4 for actor
-    and critics, Polyak coefficient 0.005 ("target Q-network learning rate"), gamma 0.99,
-    initial entropy coefficient 0.2 (learned), buffer 1e6, and after every episode 10 gradient
-    steps on batches of 256 (``train_freq=(1, "episode")``, ``gradient_steps=10``).
+    Defaults are the recommended set-up's: the paper's Tables 2-3 (learning rate 3e-4 for actor
+    and critics, Polyak coefficient 0.005, the paper's "target Q-network learning rate", gamma
+    0.99, initial entropy coefficient 0.2 (learned), buffer 1e6, batches of 256) with one
+    gradient step per environment step (section 3.2's text) instead of Table 3's 10 after every
+    episode, and networks [64, 64] instead of [255, 255] (ReLU). The paper read literally is
+    ``train_freq=(1, "episode"), gradient_steps=10, policy_kwargs=dict(net_arch=[255, 255])``
+    (``sb3_pnn.reproduce.planning.setups.PAPER.sac_kwargs()`` gives them); docs/ablation
+    measures every difference.
 
     Checkpoints are safe to load: :meth:`save` adds a JSON member (``sb3_pnn.json``) to SB3's
     zip and :meth:`load` rebuilds the model from it and the ``.pth`` weights only, never
@@ -213,12 +218,12 @@ class DiscreteSAC(OffPolicyAlgorithm):
         env: GymEnv | str | None = None,
         learning_rate: float | Schedule = 3e-4,
         buffer_size: int = 1_000_000,
-        learning_starts: int = 1000,
+        learning_starts: int = 256,
         batch_size: int = PAPER_BATCH_SIZE,
         tau: float = 0.005,
         gamma: float = 0.99,
-        train_freq: int | tuple[int, str] | list = (1, "episode"),
-        gradient_steps: int = 10,
+        train_freq: int | tuple[int, str] | list = 1,
+        gradient_steps: int = 1,
         replay_buffer_class: type[ReplayBuffer] | None = None,
         replay_buffer_kwargs: dict[str, Any] | None = None,
         optimize_memory_usage: bool = False,
@@ -642,7 +647,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
             "target_update_interval": self.target_update_interval,
             "stats_window_size": self._stats_window_size,
             "tensorboard_log": self.tensorboard_log,
-            "policy_kwargs": self.policy_kwargs,
+            # the architecture named even when it was the default, so that a later default
+            # cannot change what a checkpoint rebuilds
+            "policy_kwargs": {"net_arch": self.policy.net_arch, **self.policy_kwargs},
             "verbose": self.verbose,
             "seed": self.seed,
         }
@@ -693,6 +700,17 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 f"{where} replay_buffer_kwargs names {unknown}, which {buffer_class.__name__} "
                 "does not take"
             )
+
+    @classmethod
+    def upgrade_checkpoint(cls, meta: dict[str, Any]) -> dict[str, Any]:
+        """A checkpoint of an earlier format version as the current one. Version 1 named the
+        network architecture only when it was not the default, then [255, 255]."""
+        if meta.get("version") == 1:
+            hyper = meta.get("hyperparameters")
+            kwargs = hyper.get("policy_kwargs") if isinstance(hyper, dict) else None
+            if isinstance(kwargs, dict) and "net_arch" not in kwargs:
+                kwargs["net_arch"] = list(PAPER_NET_ARCH)
+        return meta
 
     def checkpoint_extras(self) -> dict[str, Any]:
         """Entries of a safe checkpoint besides the constructor's: the target entropy (for the

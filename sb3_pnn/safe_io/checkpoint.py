@@ -62,7 +62,10 @@ if TYPE_CHECKING:
 
 JSON_MEMBER = "sb3_pnn.json"
 FORMAT = "sb3_pnn.DiscreteSAC"
-VERSION = 1
+#: The format written; :data:`READABLE_VERSIONS` are read (an algorithm's
+#: ``upgrade_checkpoint`` brings an older one up to date).
+VERSION = 2
+READABLE_VERSIONS = (1, 2)
 
 #: Counters restored after ``_setup_model``
 STATE_KEYS = (
@@ -218,10 +221,10 @@ def read_checkpoint(
     meta = parse_json(meta_bytes, f"{name!r}: the {JSON_MEMBER} member")
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise ValueError(f"{name!r}: {JSON_MEMBER} is not a {FORMAT} description")
-    if meta.get("version") != VERSION:
+    if meta.get("version") not in READABLE_VERSIONS:
         raise ValueError(
-            f"{name!r}: checkpoint format version {meta.get('version')!r} is not supported "
-            f"(this sb3_pnn reads version {VERSION})"
+            f"{name!r}: checkpoint format version {meta.get('version')!r:.20} is not supported "
+            f"(this sb3_pnn reads versions {list(READABLE_VERSIONS)})"
         )
     params, variables = _read_weights(raw, names, name, device)
     expected = meta.get("state_dicts")
@@ -302,6 +305,9 @@ def load_model(
     """Rebuild a model of class ``cls`` from a safe checkpoint (see the module docstring)."""
     kwargs = dict(kwargs or {})
     meta, params, variables, name = read_checkpoint(path, device="cpu")
+    upgrade = getattr(cls, "upgrade_checkpoint", None)
+    if upgrade is not None:
+        meta = upgrade(meta)
     if print_system_info:
         print("== CURRENT SYSTEM INFO ==")
         get_system_info()

@@ -44,10 +44,21 @@ def test_check_env(env_id: str) -> None:
     check_env(gym.make(env_id, continuous=True).unwrapped, skip_render_check=True)
 
 
+#: The observation parts of each kind of task by default (the recommended set-up); with
+#: ``motion_obs=False, goal_obs=False, path_obs=True`` every task observes the paper's state.
+PARTS = {
+    "PathFollowing": {"path", "motion"},
+    "ObstacleAvoidance": {"goal", "sonar", "motion"},
+    "Planning": {"path", "goal", "sonar", "motion"},
+}
+
+
 def test_observation_parts(env_id: str) -> None:
-    env = gym.make(env_id)
+    kind = next(k for k in PARTS if env_id.startswith(f"rov_envs/{k}"))
+    assert set(gym.make(env_id).observation_space.spaces) == PARTS[kind]
+    env = gym.make(env_id, motion_obs=False, goal_obs=False, path_obs=True)
     obs, info = env.reset(seed=1)
-    has_sonar = not env_id.startswith("rov_envs/PathFollowing")
+    has_sonar = kind != "PathFollowing"
     assert set(obs) == ({"path", "sonar"} if has_sonar else {"path"})
     assert obs["path"].shape == (2,) and obs["path"].dtype == np.float32
     if has_sonar:

@@ -7,48 +7,10 @@ import multiprocessing
 import gymnasium as gym
 import numpy as np
 import pytest
+from rov_envs_helpers import KW, _lockstep
 
 from rov_envs.envs.sb3 import RovSB3VecEnv
 from rov_envs.envs.vector import RovVectorEnv
-
-KW = {"sonar_noise": 0.5, "start_noise": (0.5, 0.1), "max_episode_seconds": 20.0}
-
-
-def _actions(rng: np.random.Generator, n: int, continuous: bool) -> np.ndarray:
-    if continuous:
-        return rng.uniform(-1, 1, size=(n, 2)).astype(np.float32)
-    return rng.integers(0, 5, size=n)
-
-
-def _lockstep(venv, singles: dict, steps: int, continuous: bool = False, seed: int = 0) -> int:
-    """Step the batch and the single envs (vehicle i <-> singles[i]) side by side with the same
-    random actions, the singles reset the step after they end (Gymnasium's next-step autoreset);
-    assert every transition equal. Returns the number of episodes that ended."""
-    rng = np.random.default_rng(seed)
-    pending = dict.fromkeys(singles, False)
-    ends = 0
-    for _ in range(steps):
-        acts = _actions(rng, venv.num_envs, continuous)
-        vobs, vr, vterm, vtrunc, vinfo = venv.step(acts)
-        for i, env in singles.items():
-            if pending[i]:
-                obs, info = env.reset()
-                r, term, trunc = 0.0, False, False
-                pending[i] = False
-            else:
-                obs, r, term, trunc, info = env.step(acts[i])
-                if term or trunc:
-                    pending[i] = True
-                    ends += 1
-                    assert vinfo["_is_success"][i]
-                    assert vinfo["is_success"][i] == info["is_success"]
-            for k in obs:
-                np.testing.assert_array_equal(obs[k], vobs[k][i])
-            assert (r, term, trunc) == (vr[i], vterm[i], vtrunc[i])
-            np.testing.assert_array_equal(info["position"], vinfo["position"][i])
-            assert info["cross_track"] == vinfo["cross_track"][i]
-            np.testing.assert_array_equal(env.unwrapped.obstacles, venv.batch.vehicle_obstacles(i))
-    return ends
 
 
 @pytest.mark.parametrize(
@@ -106,10 +68,11 @@ def test_vector_infos_are_arrays() -> None:
 
 
 def test_sb3_adapter_same_step_reset() -> None:
-    venv = RovSB3VecEnv(2, "rov_envs/PathFollowingStraight-v0", max_episode_seconds=2.0)
+    kw = {"max_episode_seconds": 2.0, "control_period": 0.2}  # 10 steps
+    venv = RovSB3VecEnv(2, "rov_envs/PathFollowingStraight-v0", **kw)
     venv.seed(3)
     obs = venv.reset()
-    single = gym.make("rov_envs/PathFollowingStraight-v0", max_episode_seconds=2.0)
+    single = gym.make("rov_envs/PathFollowingStraight-v0", **kw)
     sobs, _ = single.reset(seed=3)
     np.testing.assert_array_equal(obs["path"][0], sobs["path"])
     returns = 0.0
@@ -155,7 +118,8 @@ def test_vector_bad_actions() -> None:
 
 
 def _child_steps_small_batch(queue) -> None:
-    venv = RovVectorEnv(4, "PlanningStraightDense")
+    # eq. 18 at the exact start, without progress weighting: every reward 1.0
+    venv = RovVectorEnv(4, "PlanningStraightDense", start_noise=(0.0, 0.0), progress_weighted=False)
     venv.reset(seed=1)
     queue.put(venv.step(np.full(4, 2))[1].tolist())
 

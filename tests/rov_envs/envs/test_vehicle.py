@@ -45,7 +45,13 @@ def test_bad_vehicle_is_refused_everywhere(bad: object) -> None:
 
 
 def _run(vehicle: str, action: int, steps: int) -> dict:
-    env = gym.make("rov_envs/PathFollowingStraight-v0", vehicle=vehicle)
+    """``steps`` steps of 0.2 s of one action from the exact start pose."""
+    env = gym.make(
+        "rov_envs/PathFollowingStraight-v0",
+        vehicle=vehicle,
+        control_period=0.2,
+        start_noise=(0.0, 0.0),
+    )
     env.reset(seed=0)
     for _ in range(steps):
         _, _, term, trunc, info = env.step(action)

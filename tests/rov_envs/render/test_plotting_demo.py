@@ -2,19 +2,19 @@
 
 from __future__ import annotations
 
-import gymnasium as gym
 import numpy as np
 from matplotlib.figure import Figure
+from rov_envs_helpers import paper_env
 
 from rov_envs.render import demo
 from rov_envs.render.plotting import plot_runs, record_episode, run_arrays
 
 
 def test_plot_runs_from_infos_and_arrays() -> None:
-    env = gym.make("rov_envs/PlanningSine-v0", max_episode_seconds=10.0)
+    env = paper_env("rov_envs/PlanningSine-v0", max_episode_seconds=10.0)
     infos = record_episode(env, lambda obs, info: 2, seed=0)
     assert len(infos) == 51
-    arr = run_arrays(infos)
+    arr = run_arrays(infos, dt=env.unwrapped.config.dt)
     assert arr["position"].shape == (51, 2) and arr["time"][-1] == 10.0
     fig = plot_runs(
         [infos, arr],

@@ -7,6 +7,7 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from rov_envs_helpers import paper_env
 
 from rov_envs.physics.thrusters import ACTION_TABLE, continuous_to_speeds
 
@@ -97,7 +98,7 @@ def test_bad_vector_seeds_and_poses_refused() -> None:
 
 
 def test_custom_obstacles_and_path_parameters() -> None:
-    env = gym.make(
+    env = paper_env(
         "rov_envs/PlanningSine-v0",
         obstacles=[(40.0, 5.0, 2.0)],
         length=80.0,
@@ -114,7 +115,7 @@ def test_custom_obstacles_and_path_parameters() -> None:
 def test_current_pushes_the_vehicle() -> None:
     xs = []
     for current in ((0.0, 0.0), (0.3, 0.0)):
-        env = gym.make("rov_envs/PathFollowingStraight-v0", current=current)
+        env = paper_env("rov_envs/PathFollowingStraight-v0", current=current)
         env.reset(seed=0)
         for _ in range(25):
             _, _, _, _, info = env.step(2)
@@ -124,10 +125,10 @@ def test_current_pushes_the_vehicle() -> None:
 
 
 def test_start_noise_perturbs_the_start() -> None:
-    env = gym.make("rov_envs/PathFollowingStraight-v0", start_noise=(1.0, 0.2))
+    env = paper_env("rov_envs/PathFollowingStraight-v0", start_noise=(1.0, 0.2))
     _, info = env.reset(seed=0)
     assert np.hypot(*info["position"]) > 0.0 and info["heading"] != 0.0
-    _, info = gym.make("rov_envs/PathFollowingStraight-v0").reset(seed=0)
+    _, info = paper_env("rov_envs/PathFollowingStraight-v0").reset(seed=0)
     assert np.all(info["position"] == 0.0) and info["heading"] == 0.0
 
 

@@ -7,6 +7,7 @@ import math
 import gymnasium as gym
 import numpy as np
 import pytest
+from rov_envs_helpers import paper_env
 
 from rov_envs.physics.guidance import SINE_AMPLITUDE, SINE_WAVELENGTH
 from rov_envs.sim.rewards import reward_sine, reward_straight
@@ -63,8 +64,8 @@ def _eq19(a_c: float, g: float) -> float:
 def test_progress_weighted_r_c(env_id, pose, reward) -> None:
     """r_c = eq. 18/19 times the step's advance along the path tangent / (1 m/s * dt), in [0, 1];
     without ``progress_weighted`` r_c is eq. 18/19 itself."""
-    weighted = gym.make(env_id, progress_weighted=True, control_period=0.5)
-    plain = gym.make(env_id, control_period=0.5)
+    weighted = paper_env(env_id, progress_weighted=True, control_period=0.5)
+    plain = paper_env(env_id, control_period=0.5)
     for env in (weighted, plain):
         env.reset(seed=0)
         env.unwrapped.set_pose(*pose)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import math
 
-import gymnasium as gym
 import numpy as np
 import pytest
+from rov_envs_helpers import paper_env
 
 import rov_envs  # noqa: F401
 from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
@@ -24,7 +24,7 @@ def _wrap(angle: float) -> float:
      ("PathFollowingStraight", {"heading_reference": "goal"}, "goal")],
 )  # fmt: skip
 def test_heading_error_is_measured_from_the_reference(task, kwargs, reference) -> None:
-    env = gym.make(f"rov_envs/{task}-v0", start_noise=(3.0, 0.4), **kwargs)
+    env = paper_env(f"rov_envs/{task}-v0", start_noise=(3.0, 0.4), **kwargs)
     goal = np.array(env.unwrapped.config.target)
     obs, info = env.reset(seed=5)
     for step in range(40):
@@ -45,8 +45,8 @@ def test_heading_limit_follows_the_reference() -> None:
     """Eq. 21's |a_c| >= pi/2 failure: a start pose off the line, heading away from it, fails
     against the LOS course (5 m lookahead) and not against the goal 60 m ahead."""
     kwargs = {"start_noise": (3.0, 1.2)}
-    goal_env = gym.make("rov_envs/ObstacleAvoidance-v0", **kwargs)
-    path_env = gym.make("rov_envs/ObstacleAvoidance-v0", heading_reference="path", **kwargs)
+    goal_env = paper_env("rov_envs/ObstacleAvoidance-v0", **kwargs)
+    path_env = paper_env("rov_envs/ObstacleAvoidance-v0", heading_reference="path", **kwargs)
     for seed in range(2000):
         _, info = goal_env.reset(seed=seed)
         (x, y), psi = info["position"], info["heading"]
@@ -61,4 +61,4 @@ def test_heading_limit_follows_the_reference() -> None:
     assert goal_env.step(2)[4]["end_reason"] == "none"
     assert path_env.step(2)[4]["end_reason"] == "heading"
     with pytest.raises(ValueError, match="heading_reference='north' is not allowed"):
-        gym.make("rov_envs/ObstacleAvoidance-v0", heading_reference="north")
+        paper_env("rov_envs/ObstacleAvoidance-v0", heading_reference="north")

@@ -13,9 +13,9 @@ from rov_envs.sim.engine import RovBatch
 from rov_envs.sim.spaces import MOTION_SPACE
 
 
-def test_motion_part_is_optional_and_off_by_default(env_id: str) -> None:
-    assert "motion" not in gym.make(env_id).observation_space.spaces
-    env = gym.make(env_id, motion_obs=True)
+def test_motion_part_is_on_by_default_and_optional(env_id: str) -> None:
+    assert "motion" not in gym.make(env_id, motion_obs=False).observation_space.spaces
+    env = gym.make(env_id)
     space = env.observation_space
     assert space["motion"] == MOTION_SPACE
     np.testing.assert_array_equal(space["motion"].high, [3.0, 2.0])
@@ -24,7 +24,7 @@ def test_motion_part_is_optional_and_off_by_default(env_id: str) -> None:
     assert space.contains(obs)
     np.testing.assert_array_equal(obs["motion"], [0.0, 0.0])  # starts at rest
     # every other part is unchanged by the new one
-    plain, _ = gym.make(env_id).reset(seed=0)
+    plain, _ = gym.make(env_id, motion_obs=False).reset(seed=0)
     assert set(obs) - set(plain) == {"motion"}
     for k in plain:
         np.testing.assert_array_equal(obs[k], plain[k])
@@ -61,7 +61,7 @@ def test_motion_part_is_clipped_to_its_bounds() -> None:
 
 
 def test_batched_equals_single_with_motion() -> None:
-    from test_vector import KW, _lockstep
+    from rov_envs_helpers import KW, _lockstep
 
     env_id = "rov_envs/PlanningStraightDense-v0"
     kw = {**KW, "motion_obs": True}
@@ -76,7 +76,7 @@ def test_batched_equals_single_with_motion() -> None:
 
 
 def test_sb3_terminal_observation_has_the_motion_part() -> None:
-    kw = {"motion_obs": True, "max_episode_seconds": 2.0}
+    kw = {"motion_obs": True, "max_episode_seconds": 2.0, "control_period": 0.2}
     venv = RovSB3VecEnv(2, "rov_envs/PlanningStraight-v0", **kw)
     venv.seed(3)
     venv.reset()
@@ -87,7 +87,7 @@ def test_sb3_terminal_observation_has_the_motion_part() -> None:
         sobs, *_ = single.step(1)
     assert dones.all()
     terminal = infos[0]["terminal_observation"]
-    assert set(terminal) == {"motion", "path", "sonar"}
+    assert set(terminal) == set(sobs) == {"motion", "path", "goal", "sonar"}
     for k in sobs:
         np.testing.assert_array_equal(terminal[k], sobs[k])
     assert sobs["motion"][1] > 0.1  # turning left at the end

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import math
 
-import gymnasium as gym
 import numpy as np
 import pytest
+from rov_envs_helpers import paper_env
 
 from rov_envs.sim.rewards import failure_code, reward_obstacle, reward_sine, reward_straight
 
@@ -51,7 +51,7 @@ def test_eq21_conditions() -> None:
 
 
 def _place(env_id: str, x: float, y: float, psi: float, action: int = 2, **kw):
-    env = gym.make(env_id, **kw)
+    env = paper_env(env_id, **kw)
     env.reset(seed=0)
     env.unwrapped.set_pose(x, y, psi)
     return env, env.step(action)
@@ -120,7 +120,7 @@ def test_end_collision() -> None:
 @pytest.mark.parametrize("bonus", [None, 0.0, 50.0])
 def test_end_success(bonus) -> None:
     kwargs = {} if bonus is None else {"success_reward": bonus}
-    env = gym.make("rov_envs/PathFollowingStraight-v0", **kwargs)
+    env = paper_env("rov_envs/PathFollowingStraight-v0", **kwargs)
     env.reset(seed=0)
     env.unwrapped.set_pose(197.0, 0.0, 0.0)
     for _ in range(100):
@@ -136,7 +136,7 @@ def test_end_success(bonus) -> None:
 
 
 def test_end_time_limit() -> None:
-    env = gym.make("rov_envs/PathFollowingStraight-v0", max_episode_seconds=1.0)
+    env = paper_env("rov_envs/PathFollowingStraight-v0", max_episode_seconds=1.0)
     env.reset(seed=0)
     for k in range(5):
         obs, r, term, trunc, info = env.step(2)
@@ -148,12 +148,12 @@ def test_end_time_limit() -> None:
 
 
 def test_default_time_limit_is_twice_nominal() -> None:
-    env = gym.make("rov_envs/PathFollowingStraight-v0")
+    env = paper_env("rov_envs/PathFollowingStraight-v0")
     assert env.unwrapped.config.max_steps == int(round(2 * 200 / 1.0 / 0.2))
 
 
 def test_progress_reward_obstacle_avoidance() -> None:
-    env = gym.make("rov_envs/ObstacleAvoidance-v0", obstacles=[(50.0, 20.0, 1.0)])
+    env = paper_env("rov_envs/ObstacleAvoidance-v0", obstacles=[(50.0, 20.0, 1.0)])
     env.reset(seed=0)
     prev = np.hypot(60.0, 0.0)
     for _ in range(30):

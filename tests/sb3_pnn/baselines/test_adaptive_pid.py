@@ -76,10 +76,20 @@ def test_adaptive_pid_completes_planning_straight_where_the_pid_collides():
     assert pid.successes == 0 and pid.collisions == 5
 
 
+#: Wu's vehicle pivots at about 1 rad/s: its gains are tuned on the paper's task definition
+#: (0.2 s steps, the heading rule on the LOS course), where its sharp pivots around an obstacle
+#: are no failure.
+VEHICLE_KW = {"uuv_simulator": {}, "wu2018": {"control_period": 0.2, "heading_rule": "path"}}
+
+
 @pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
 def test_adaptive_pid_completes_planning_sine(vehicle):
     res = evaluate_policy_on_task(
-        "adaptive_pid", "PlanningSine-v0", n_episodes=5, seed=0, env_kwargs={"vehicle": vehicle}
+        "adaptive_pid",
+        "PlanningSine-v0",
+        n_episodes=5,
+        seed=0,
+        env_kwargs={"vehicle": vehicle, **VEHICLE_KW[vehicle]},
     )
     assert res.successes == 5 and res.vehicle == vehicle
 
@@ -113,8 +123,8 @@ def test_usable_with_sb3_evaluate_policy_on_the_batched_vec_env():
         returns, lengths = evaluate_policy(
             ctrl, venv, n_eval_episodes=2, return_episode_rewards=True
         )
-    # success: about one reward point per step along the line, no -200 failure reward
-    assert all(r > 300.0 for r in returns) and all(n > 900 for n in lengths)
+    # success: about one reward point per 0.5 s step along the line, no -200 failure reward
+    assert all(r > 300.0 for r in returns) and all(350 < n < 800 for n in lengths)
 
 
 def test_adaptive_pid_with_continuous_actions():

@@ -110,7 +110,8 @@ def test_pid_follows_the_straight_line_within_the_bound(vehicle):
         n_episodes=5,
         seed=0,
         record_trajectories=5,
-        env_kwargs={"vehicle": vehicle},
+        # Wu's vehicle pivots at about 1 rad/s: its gains are tuned for 0.2 s steps
+        env_kwargs={"vehicle": vehicle, **({"control_period": 0.2} if vehicle == "wu2018" else {})},
     )
     assert res.successes == 5 and res.vehicle == vehicle
     assert res.max_abs_cross_track < 4.0

@@ -44,10 +44,7 @@ def test_accepted_ent_coef_forms_and_defaults() -> None:
     assert model.target_entropy == pytest.approx(model.target_entropy_ratio * 0.6931471805599453)
     assert [
         layer.out_features for layer in model.actor.latent_pi if hasattr(layer, "out_features")
-    ] == [
-        255,
-        255,
-    ]
+    ] == [64, 64]  # the recommended set-up's; the paper's is [255, 255]
     assert model.critic.n_critics == 2 and len(model.critic.q_networks) == 2
     assert model.critic.q_networks[0][-1].out_features == 2
     assert model.actor.action_logits.out_features == 2
@@ -58,8 +55,10 @@ def test_accepted_ent_coef_forms_and_defaults() -> None:
         0.99,
         256,
     )
-    assert model.buffer_size == 1_000_000 and model.gradient_steps == 10
-    assert (model.train_freq.frequency, model.train_freq.unit.value) == (1, "episode")
+    # one update per step (section 3.2's text); the paper's Table 3: 10 after each episode
+    assert model.buffer_size == 1_000_000 and model.gradient_steps == 1
+    assert (model.train_freq.frequency, model.train_freq.unit.value) == (1, "step")
+    assert model.learning_starts == 256
     auto = DiscreteSAC("MlpPolicy", "CartPole-v1", ent_coef="auto", buffer_size=1000)
     assert auto.log_ent_coef.item() == 0.0
     fixed = DiscreteSAC(

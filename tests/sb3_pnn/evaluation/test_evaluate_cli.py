@@ -73,9 +73,9 @@ def test_model_of_another_task_is_refused_before_it_runs(tmp_path, capsys):
     assert run(argv) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err
-    assert "policy 'spnn' was trained with the observation space Dict('path'" in err
-    assert "but rov_envs/PathFollowingStraight-v0 has Dict('path'" in err
-    assert "missing there: 'sonar'" in err
+    assert "policy 'spnn' was trained with the observation space Dict(" in err
+    assert "missing there: 'goal', 'sonar'" in err
+    assert "but rov_envs/PathFollowingStraight-v0 has Dict('motion'" in err
 
 
 def test_not_a_model_zip_is_a_usage_error(tmp_path, capsys):

@@ -38,7 +38,7 @@ def _planning_observations(env: gym.Env, n: int) -> dict[str, np.ndarray]:
 
 def test_motion_prior_gets_exactly_its_parts_from_the_planning_task(motion_prior):
     env = gym.make("rov_envs/PlanningStraight-v0", motion_obs=True)
-    assert set(env.observation_space.spaces) == {"motion", "path", "sonar"}
+    assert set(env.observation_space.spaces) == {"motion", "path", "goal", "sonar"}
     model = DiscreteSAC(
         ProgressivePolicy, env, policy_kwargs=dict(priors=[motion_prior], net_arch=[8])
     )
@@ -58,6 +58,6 @@ def test_motion_prior_gets_exactly_its_parts_from_the_planning_task(motion_prior
 
 
 def test_motion_prior_is_refused_by_a_task_without_motion(motion_prior):
-    env = gym.make("rov_envs/PlanningStraight-v0")  # motion_obs=False: {"path", "sonar"}
+    env = gym.make("rov_envs/PlanningStraight-v0", motion_obs=False)  # no "motion" part
     with pytest.raises(ValueError, match=r"pf_motion.zip.*key 'motion' is missing"):
         DiscreteSAC(ProgressivePolicy, env, policy_kwargs=dict(priors=[motion_prior]))

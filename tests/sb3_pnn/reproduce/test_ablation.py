@@ -346,7 +346,7 @@ def test_stopped_ablation_session_is_recorded_and_the_report_quotes_it(
     import sb3_pnn.reproduce.running.executor as executor
     from sb3_pnn.reproduce.running.executor import ExecutionSummary
 
-    def stopped(plan, store, work, jobs, quiet=False):  # what execute returns after Ctrl-C
+    def stopped(plan, store, work, jobs, quiet=False, pool=None):  # execute after Ctrl-C
         return ExecutionSummary(done=[plan[0].run_id], stopped=True)
 
     out = tmp_path / "ablation"

@@ -17,3 +17,9 @@ def prior_logs(tmp_path_factory: pytest.TempPathFactory) -> Path:
             "train", "--algo", "dsac", "--env", env_id, "-n", "120", "-f", "logs", *TINY, cwd=work
         )
     return work
+
+
+@pytest.fixture
+def in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    return tmp_path

@@ -5,38 +5,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from zoo_helpers import OA_ENV, PF_ENV, PLAN_ENV, run_cli
+from zoo_helpers import OA_ENV, PF_ENV, PLAN_ENV, fails, run_cli, train_fails
 
-from sb3_pnn.zoo.cli import ENJOY_PROG, TRAIN_PROG, enjoy_main, train_main
-from sb3_pnn.zoo.errors import USAGE_EXIT_CODE
-from sb3_pnn.zoo.errors import run_cli as guarded
+from sb3_pnn.zoo.cli import ENJOY_PROG, enjoy_main
 
 DSAC_ENTRY = """\
 rov_envs/PathFollowingStraight-v0:
   policy: MultiInputPolicy
   n_timesteps: 100
 """
-
-
-def fails(capsys: pytest.CaptureFixture[str], main, prog: str, argv: list[str]) -> str:
-    with pytest.raises(SystemExit) as exit_info:
-        guarded(lambda: main(argv), prog)
-    assert exit_info.value.code == USAGE_EXIT_CODE
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err, "no message on stderr"
-    assert err[-1].startswith(f"{prog}: error: ")
-    assert not any("Traceback" in line for line in err)
-    return err[-1]
-
-
-@pytest.fixture
-def in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-def train_fails(capsys, argv: list[str]) -> str:
-    return fails(capsys, train_main, TRAIN_PROG, argv)
 
 
 def test_unknown_algo(capsys, in_tmp) -> None:

@@ -7,8 +7,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from test_bad_input import fails, train_fails
-from zoo_helpers import OA_ENV, PF_ENV, PLAN_ENV, run_cli
+from zoo_helpers import OA_ENV, PF_ENV, PLAN_ENV, fails, run_cli, train_fails
 
 from sb3_pnn.zoo.cli import ENJOY_PROG, enjoy_main
 

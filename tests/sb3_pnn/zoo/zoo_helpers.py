@@ -9,6 +9,10 @@ from pathlib import Path
 
 import pytest
 
+from sb3_pnn.zoo.cli import TRAIN_PROG, train_main
+from sb3_pnn.zoo.errors import USAGE_EXIT_CODE
+from sb3_pnn.zoo.errors import run_cli as guarded
+
 REPO = Path(__file__).resolve().parents[3]
 PF_ENV = "rov_envs/PathFollowingStraight-v0"
 OA_ENV = "rov_envs/ObstacleAvoidance-v0"
@@ -60,3 +64,24 @@ def run_cli(
             f"stdout:\n{result.stdout[-4000:]}\nstderr:\n{result.stderr[-4000:]}"
         )
     return result
+
+
+def fails(capsys: pytest.CaptureFixture[str], main, prog: str, argv: list[str]) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        guarded(lambda: main(argv), prog)
+    assert exit_info.value.code == USAGE_EXIT_CODE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err, "no message on stderr"
+    assert err[-1].startswith(f"{prog}: error: ")
+    assert not any("Traceback" in line for line in err)
+    return err[-1]
+
+
+@pytest.fixture
+def in_tmp(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def train_fails(capsys, argv: list[str]) -> str:
+    return fails(capsys, train_main, TRAIN_PROG, argv)
