@@ -18,6 +18,7 @@ import numpy as np
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
 from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
+from rov_envs.sim.layouts import LAYOUT_CODES
 from rov_envs.sim.tasks import HEADING_REFERENCES, PATH_SINE, TASKS, TaskSpec
 
 #: Control period (s) of one environment step by default: 0.5 s (the paper gives none; the
@@ -139,6 +140,10 @@ class EnvConfig:
       the goal's bearing: the episode fails when the vehicle turns away from where the route
       goes, not when a detour takes it off the LOS course); default: ``"goal"`` for the
       planning tasks, ``heading_reference`` for the others.
+    * ``layout``: obstacles drawn afresh each episode by a generator of
+      :mod:`rov_envs.sim.layouts` instead of the task's own (``"scatter"``: a random field of
+      random density and size around the route, for training on layouts beyond the paper's;
+      default None: the task's).
     """
 
     task: TaskSpec
@@ -166,6 +171,12 @@ class EnvConfig:
     goal_obs: bool | None = None
     goal_distance: float | None = None
     heading_rule: str | None = None
+    layout: str | None = None
+
+    @property
+    def layout_name(self) -> str:
+        """The obstacle layout: ``layout`` when given, else the task's."""
+        return self.layout or self.task.layout
 
     @property
     def dt(self) -> float:
@@ -214,6 +225,8 @@ class EnvConfig:
         """The layout when it does not change between episodes, else None."""
         if self.obstacles is not None:
             return self.obstacles
+        if self.layout is not None:
+            return None
         if self.task.layout == "none":
             return np.zeros((0, 3))
         if self.task.layout == "fixed":
@@ -275,7 +288,13 @@ def _check_path(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     if wavelength < 20.0:
         raise _bad("wavelength", wavelength, "a float >= 20 (m)")
     obstacles = args.get("obstacles")
+    layout = args.get("layout")
+    if layout is not None and layout not in LAYOUT_CODES:
+        raise _bad("layout", layout, f"None or one of {sorted(LAYOUT_CODES)}")
+    if layout is not None and obstacles is not None:
+        raise _bad("layout", layout, "None when obstacles are given")
     return {
+        "layout": layout,
         "length": length,
         "amplitude": amplitude,
         "wavelength": wavelength,

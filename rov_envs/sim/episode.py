@@ -31,7 +31,7 @@ def layout_code(config: EnvConfig) -> int:
     """The kernel's layout code: 0 when the obstacles never change, else the generator's."""
     if config.fixed_obstacles() is not None:
         return LAYOUT_FIXED
-    return LAYOUT_CODES[config.task.layout]
+    return LAYOUT_CODES[config.layout_name]
 
 
 def obstacle_capacity(config: EnvConfig) -> int:
@@ -39,7 +39,7 @@ def obstacle_capacity(config: EnvConfig) -> int:
     fixed = config.fixed_obstacles()
     if fixed is not None:
         return fixed.shape[0]
-    return max_obstacles(config.task.layout, config.length)
+    return max_obstacles(config.layout_name, config.length)
 
 
 def cfg_array(config: EnvConfig) -> np.ndarray:

@@ -314,8 +314,9 @@ def reset_vehicle(
     """Draw vehicle i's next episode from its stream (layout, start-pose noise) and start it."""
     kind = int(cfg[C_LAYOUT])
     if kind != 0:
+        amplitude = cfg[C_AMP] if cfg[C_PATH] == 1.0 else 0.0  # a straight path: no sine
         n_obs[i] = draw_layout(
-            kind, int(cfg[C_LAYOUT_N]), rng, i, cfg[C_LENGTH], cfg[C_AMP], cfg[C_WAVE],
+            kind, int(cfg[C_LAYOUT_N]), rng, i, cfg[C_LENGTH], amplitude, cfg[C_WAVE],
             obstacles[i],
         )  # fmt: skip
     x = 0.0

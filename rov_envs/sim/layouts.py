@@ -29,6 +29,14 @@ Layouts (``length`` is the path length along x; counts scale with it):
     [20, length - 15] (8-9 on the 120 m sinusoid), each placed at a point of the sinusoid and moved
     along its normal by U(-5, 5) m, so the obstacles follow the curve.
 
+``scatter`` (any task, ``layout="scatter"``; training layouts beyond the paper, not an
+    evaluation layout): a random field of random density and size around the route: 1-5
+    cylinders per 40 m of the route along [START_CLEAR, length - END_CLEAR], each of radius
+    U(0.75, 2.5) m, placed at a route point and moved along its normal by U(-10, 10) m. Its
+    counts, sizes and spread are its own: none of the ``uniform`` / ``dense`` / ``sine_dense``
+    generators' parameters. For the obstacle-avoidance source task the first cylinder blocks
+    the start-goal line, as in ``avoidance``.
+
 Obstacles are drawn one at a time, each proposal redrawn until it keeps ``GAP_MIN`` from those
 already placed (at most ``MAX_TRIES`` proposals each). The draws come from the vehicle's
 splitmix64 stream (:mod:`rov_envs.sim.random_stream`) inside the kernels, so a batched reset costs
@@ -54,7 +62,17 @@ MAX_TRIES = 2000
 
 #: Layout codes read by the kernels (``rov_envs.sim.kernel.C_LAYOUT``); 0 = nothing is drawn.
 LAYOUT_FIXED = 0
-LAYOUT_CODES: dict[str, int] = {"avoidance": 1, "uniform": 2, "dense": 3, "sine_dense": 4}
+LAYOUT_CODES: dict[str, int] = {
+    "avoidance": 1,
+    "uniform": 2,
+    "dense": 3,
+    "sine_dense": 4,
+    "scatter": 5,
+}
+#: The scatter layout: cylinders per this many metres of route, at most.
+SCATTER_STRETCH = 40.0
+#: Most obstacles per ``SCATTER_STRETCH`` metres of the scatter layout (at least 1).
+SCATTER_MOST = 5
 
 
 @njit(cache=True, inline="always")
@@ -73,6 +91,16 @@ def _propose(kind, rng, ri, k, n, length, amplitude, wavelength):
         x = 30.0 + (length - 50.0) * uniform(rng, ri)
         y = -6.0 + 12.0 * uniform(rng, ri)
         return x, y, 1.0 + uniform(rng, ri)
+    if kind == 5:  # scatter: a route point moved along its normal, the first one on the route
+        xs = START_CLEAR + (length - END_CLEAR - START_CLEAR) * uniform(rng, ri)
+        off = (-1.5 + 3.0 * uniform(rng, ri)) if k == 0 else (-10.0 + 20.0 * uniform(rng, ri))
+        r = 0.75 + 1.75 * uniform(rng, ri)
+        if amplitude == 0.0:
+            return xs, off, r
+        k_w = 2.0 * math.pi / wavelength
+        slope = amplitude * k_w * math.cos(k_w * xs)
+        norm = math.sqrt(1.0 + slope * slope)
+        return xs - off * slope / norm, amplitude * math.sin(k_w * xs) + off / norm, r
     # sine_dense: a point of the sinusoid moved along its normal
     k_w = 2.0 * math.pi / wavelength
     xs = 20.0 + (length - 35.0) * uniform(rng, ri)
@@ -92,6 +120,9 @@ def draw_layout(kind, n_max, rng, ri, length, amplitude, wavelength, out):
     n = n_max
     if kind == 1:
         n = 2 + int(3.0 * uniform(rng, ri))
+    elif kind == 5:  # between one per stretch and n_max
+        stretches = max(1, n_max // SCATTER_MOST)
+        n = stretches + int((n_max - stretches + 1) * uniform(rng, ri))
     m = 0
     for k in range(n):
         for _ in range(MAX_TRIES):
@@ -124,6 +155,9 @@ def max_obstacles(layout: str, length: float) -> int:
         return max(1, int(round((length - 50.0) / 10.0)))
     if layout == "sine_dense":
         return max(1, int(round((length - 35.0) / 10.0)))
+    if layout == "scatter":
+        stretches = max(1, int(round((length - START_CLEAR - END_CLEAR) / SCATTER_STRETCH)))
+        return SCATTER_MOST * stretches
     raise ValueError(f"layout={layout!r} is not allowed: expected one of {sorted(LAYOUT_CODES)}")
 
 

@@ -63,10 +63,14 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "vehicle": ("wu2018",),
     "updates": ("step:1", "step:4"),
     "target_entropy_ratio": (0.2,),
+    "oa_layout": ("scatter",),
 }
 #: Factors with no cell of their own, each with why and where it is measured instead.
 _ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
 NOT_ABLATED: dict[str, str] = {
+    "planning_layout": "beyond the paper's protocol (the agents train on other obstacles than "
+    "the paper's tasks have): its runs are reported apart, as extra rows of Figure 20 "
+    "(docs/results.md)",
     "spnn_d_th": "the paper's and ours are equal (12.5 m); 8 m was measured by retraining the "
     "5-seed study's ten SPNN runs with it (docs/ablation/spnn_d_th)",
     "pnn_lateral_init": _ONLY_PNN
@@ -296,7 +300,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     eval_tasks=(("own", env_id, setup.env_kwargs()),),
                     eval_episodes=budget.eval_episodes,
                     sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
-                    env_kwargs=setup.train_env_kwargs(),
+                    env_kwargs=setup.train_env_kwargs(env_id),
                     validation=setup.validation(),
                 )
     plan = list(runs.values())

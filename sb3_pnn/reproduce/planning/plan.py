@@ -256,7 +256,7 @@ def prior_run(
         eval_tasks=(("own", env_id, setup.env_kwargs()),),
         eval_episodes=eval_episodes,
         sac_kwargs=setup.sac_kwargs(prior=True),
-        env_kwargs=setup.train_env_kwargs(),
+        env_kwargs=setup.train_env_kwargs(env_id),
         validation=setup.validation(),
     )
 
@@ -326,7 +326,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         eval_episodes=budget.eval_episodes,
                         trace_episodes=budget.trace_episodes,
                         sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
-                        env_kwargs=setup.train_env_kwargs(),
+                        env_kwargs=setup.train_env_kwargs(PLANNING_ENVS[path]),
                         validation=setup.validation(),
                     )
                 )

@@ -76,6 +76,13 @@ Factors:
 * ``goal_distance``: how far ahead along the route the goal lies (None: the target point).
 * ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
   a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
+* ``oa_layout``: the obstacles of the obstacle-avoidance source task: ``"avoidance"``, its own
+  (2-4 cylinders of 1.5 m near the start-goal line), or ``"scatter"`` (a random field of random
+  density and size, :mod:`rov_envs.sim.layouts`).
+* ``planning_layout``: the obstacles the planning agents train on: ``"fixed"``, the paper's
+  (section 4.3.3: trained on the original tasks only), or ``"scatter"`` (drawn afresh every
+  training episode around the route; beyond the paper, reported apart). Evaluation always runs
+  the paper's tasks and the new layouts.
 * ``keep_best``: the run keeps the policy that did best on validation episodes of its own task
   (every ``VALIDATION_EVERY`` training episodes, ``VALIDATION_EPISODES`` episodes under start
   noise, seeds from :data:`sb3_pnn.common.callbacks.VALIDATION_SEED`, apart from the evaluation's),
@@ -151,6 +158,8 @@ class TrainingSetup:
     goal_obs: bool = False
     goal_distance: float | None = None
     heading_rule: str = "path"
+    oa_layout: str = "avoidance"
+    planning_layout: str = "fixed"
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -198,6 +207,18 @@ class TrainingSetup:
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
+        from rov_envs.sim.layouts import LAYOUT_CODES
+
+        if self.oa_layout not in LAYOUT_CODES:
+            raise ValueError(
+                f"oa_layout={self.oa_layout!r} is not allowed: expected one of "
+                f"{sorted(LAYOUT_CODES)}"
+            )
+        if self.planning_layout not in ("fixed", "scatter"):
+            raise ValueError(
+                f"planning_layout={self.planning_layout!r} is not allowed: expected 'fixed' "
+                "(the paper's obstacles) or 'scatter' (drawn afresh each training episode)"
+            )
         if self.heading_rule not in ("path", "goal"):
             raise ValueError(
                 f"heading_rule={self.heading_rule!r} is not allowed: expected 'path' or 'goal'"
@@ -231,10 +252,28 @@ class TrainingSetup:
             kwargs["heading_rule"] = self.heading_rule
         return kwargs
 
-    def train_env_kwargs(self) -> dict[str, Any]:
-        """Keyword arguments of the training environment (start noise included)."""
+    def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
+        """Keyword arguments of the training environment (start noise included); for
+        ``env_id``'s task also the obstacles it trains on (``oa_layout`` for the
+        obstacle-avoidance task, ``planning_layout`` for the planning tasks), when they are not
+        the task's own."""
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
-        return {**self.env_kwargs(), "start_noise": list(noise)}
+        kwargs = {**self.env_kwargs(), "start_noise": list(noise)}
+        layout = self._training_layout(env_id) if env_id is not None else None
+        if layout is not None:
+            kwargs["layout"] = layout
+        return kwargs
+
+    def _training_layout(self, env_id: str) -> str | None:
+        """The layout ``env_id``'s training episodes draw, None for the task's own."""
+        from rov_envs.sim.tasks import task_of_env
+
+        task = task_of_env(env_id)
+        if task.name == "ObstacleAvoidance" and self.oa_layout != task.layout:
+            return self.oa_layout
+        if task.name.startswith("Planning") and self.planning_layout != "fixed":
+            return self.planning_layout
+        return None
 
     def on_path(self, name: str, path: str) -> bool:
         """Whether the per-path factor ``name`` is on for planning path ``path``."""
@@ -409,6 +448,8 @@ FACTOR_LABELS: dict[str, str] = {
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "goal_distance": "goal: route point ahead (m)",
     "heading_rule": "heading rule of the planning tasks reads",
+    "oa_layout": "obstacles of the avoidance task",
+    "planning_layout": "obstacles the planning agents train on",
 }
 
 

@@ -57,7 +57,7 @@ def test_layouts_solvable(name: str) -> None:
     straight = name != "sine_dense"
     d_L = 30.0 if straight else 15.0
     length = 60.0 if name == "avoidance" else (200.0 if straight else 120.0)
-    amp, wave = 15.0, 120.0
+    amp, wave = (15.0 if name == "sine_dense" else 0.0), 120.0  # the straight ones ignore it
     for seed in range(40):
         obs = LAYOUTS[name](np.random.default_rng(seed), length, amp, wave)
         assert obs.shape[1] == 3 and obs.shape[0] >= 1
@@ -73,3 +73,31 @@ def test_layouts_solvable(name: str) -> None:
         for seed in range(20):
             obs = LAYOUTS[name](np.random.default_rng(seed), length, amp, wave)
             assert np.any(np.abs(obs[:, 1]) - obs[:, 2] <= 2.0)
+
+
+@pytest.mark.parametrize("task", ["PlanningStraight", "PlanningSine", "ObstacleAvoidance"])
+def test_scatter_layout_is_drawn_around_the_route_every_episode(task: str) -> None:
+    env = gym.make(f"rov_envs/{task}-v0", layout="scatter")
+    config = env.unwrapped.config
+    sine = config.task.path_kind == 1
+    curve_x = np.linspace(0.0, config.length, 4001)
+    curve_y = (
+        config.amplitude * np.sin(2 * np.pi * curve_x / config.wavelength) if sine else 0 * curve_x
+    )
+    counts = set()
+    for seed in range(40):
+        env.reset(seed=seed)
+        layout = env.unwrapped.obstacles
+        counts.add(len(layout))
+        x, y, r = layout.T
+        assert ((0.75 <= r) & (r <= 2.5)).all()
+        off_route = np.hypot(x[:, None] - curve_x, y[:, None] - curve_y).min(axis=1)
+        assert (off_route <= 10.0 + 1e-6).all()  # within 10 m of the route
+        assert (np.hypot(x, y) - r > 10.0).all()  # the start is clear
+        gaps = np.hypot(x[:, None] - x, y[:, None] - y) - r[:, None] - r
+        assert (gaps[~np.eye(len(r), dtype=bool)] >= GAP_MIN - 1e-9).all()  # passable pairs
+    assert len(counts) > 3  # its density varies from episode to episode
+    with pytest.raises(ValueError, match="layout"):
+        gym.make(f"rov_envs/{task}-v0", layout="dense", obstacles=[(50.0, 5.0, 1.0)])
+    with pytest.raises(ValueError, match="layout='maze'"):
+        gym.make(f"rov_envs/{task}-v0", layout="maze")
