@@ -52,6 +52,10 @@ PAPER_D_TH = 12.5
 #: (tau, our ``own_weight``) in eq. 15: "both set to be 0.5".
 PAPER_SIGMA = 0.5
 PAPER_OWN_WEIGHT = 0.5
+#: The recommended set-up's weights (eq. 13's unit weights, the gate still selecting one prior),
+#: used with ``start_as_prior=True``: chosen on validation episodes (docs/ablation).
+DEFAULT_SIGMA = 1.0
+DEFAULT_OWN_WEIGHT = 1.0
 
 
 def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
@@ -76,8 +80,11 @@ class SelectivePolicy(ProgressivePolicy):
     Arguments as :class:`ProgressivePolicy`, and:
 
     :param priors: ``[path_following_zip, obstacle_avoidance_zip]``, in that order
-    :param sigma: Weight of the selected prior's lateral input (paper: 0.5)
-    :param own_weight: Weight of the new column's own input, the paper's tau (0.5)
+    :param sigma: Weight of the selected prior's lateral input (default 1; paper: 0.5)
+    :param own_weight: Weight of the new column's own input, the paper's tau (default 1; paper:
+        0.5)
+    :param start_as_prior: the networks start as the gate-selected prior (default True; the
+        paper's new column starts at random: False), see :class:`ProgressivePolicy`
     :param d_th: Switching distance in metres (paper: 12.5)
     :param sonar_range: Sonar range in metres (sonar observations are distance / range)
     :param sonar_key: Observation key of the sonar
@@ -104,8 +111,8 @@ class SelectivePolicy(ProgressivePolicy):
         prior_specs: Sequence[dict[str, Any] | PriorSpec] | None = None,
         learn_lateral_scale: bool = False,
         lateral_scale_init: float = 1.0,
-        sigma: float = PAPER_SIGMA,
-        own_weight: float = PAPER_OWN_WEIGHT,
+        sigma: float = DEFAULT_SIGMA,
+        own_weight: float = DEFAULT_OWN_WEIGHT,
         d_th: float = PAPER_D_TH,
         sonar_range: float = 25.0,
         sonar_key: str = "sonar",
@@ -113,7 +120,7 @@ class SelectivePolicy(ProgressivePolicy):
         temperature: float = 1.0,
         gate_hidden: int = 32,
         critic_priors: bool = True,
-        start_as_prior: bool = False,
+        start_as_prior: bool = True,
         init_from_prior: bool = False,
     ):
         if gate not in GATES:

@@ -302,11 +302,9 @@ class TrainingSetup:
             kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
         if batch_size != PAPER_BATCH_SIZE:
             kwargs["batch_size"] = batch_size
-        for name, (reader, key) in AGENT_FACTORS.items():  # the same rule
-            if agent == reader:
-                value, default = self._policy_value(name, path)
-                if value != default:
-                    kwargs["policy_kwargs"][key] = value
+        for name, (reader, key) in AGENT_FACTORS.items():  # written always: the policies'
+            if agent == reader:  # own defaults are the recommended set-up's, not the paper's
+                kwargs["policy_kwargs"][key] = self._policy_value(name, path)[0]
         return kwargs
 
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
@@ -373,10 +371,9 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "spnn_init_from_prior",
 )
 
-#: Factors that one agent's policy reads: factor -> (agent, policy keyword argument). Each is
-#: written into that agent's ``policy_kwargs`` only when it departs from its default (the
-#: paper's), so runs made before the factor existed keep their hash. (``pnn_lateral_init_sine``
-#: reaches the PNN through ``pnn_lateral_init``'s entry, :meth:`TrainingSetup._policy_value`.)
+#: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
+#: written into that agent's ``policy_kwargs``. (``pnn_lateral_init_sine`` reaches the PNN
+#: through ``pnn_lateral_init``'s entry, :meth:`TrainingSetup._policy_value`.)
 AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "pnn_lateral_init": ("pnn", "lateral_scale_init"),
     "pnn_critic_priors": ("pnn", "critic_priors"),

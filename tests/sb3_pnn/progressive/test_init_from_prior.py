@@ -74,7 +74,10 @@ def test_spnn_copies_its_path_following_prior(priors):
     model = toy_model(
         SelectivePolicy,
         dict(
-            priors=[priors["pf_dsac"], priors["oa_dsac"]], net_arch=[16, 16], init_from_prior=True
+            priors=[priors["pf_dsac"], priors["oa_dsac"]],
+            net_arch=[16, 16],
+            init_from_prior=True,
+            start_as_prior=False,  # the copy alone (starting as the prior zeroes the output)
         ),
     )
     pf = _prior(priors["pf_dsac"])

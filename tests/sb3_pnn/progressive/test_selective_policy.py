@@ -98,9 +98,14 @@ def test_lead_shares_are_logged_and_reset(priors):
     assert policy.extra_logs() == {}
 
 
-def test_paper_defaults_and_argument_names(priors):
+def test_defaults_and_argument_names(priors):
+    """The recommended set-up's eq. 15 weights (1, 1) and start as the selected prior, the
+    paper's d_th; the paper's weights are one argument away."""
     policy = _model(priors).policy
-    assert (policy.sigma, policy.own_weight, policy.d_th) == (0.5, 0.5, 12.5)
+    assert (policy.sigma, policy.own_weight, policy.d_th) == (1.0, 1.0, 12.5)
+    assert policy.start_as_prior is True
+    paper = _model(priors, sigma=0.5, own_weight=0.5, start_as_prior=False).policy
+    assert (paper.sigma, paper.own_weight, paper.start_as_prior) == (0.5, 0.5, False)
     assert policy.sonar_range == 25.0 and policy.gate == "hard"
     assert not any(n.endswith("lateral_scale") for n, _ in policy.named_parameters())
 

@@ -68,7 +68,14 @@ def test_plan_priors_per_cell_and_before_use() -> None:
     assert spnn.agent == "spnn"
     assert spnn.deps == (run_id("paper", "pf_straight", 0), run_id("paper", "oa", 0))
     assert spnn.env_kwargs["start_noise"] == [0.0, 0.0]  # the paper trains from the exact pose
-    assert spnn.sac_kwargs["policy_kwargs"] == {"net_arch": [255, 255]}
+    assert spnn.sac_kwargs["policy_kwargs"] == {  # the paper's eq. 15, written out
+        "net_arch": [255, 255],
+        "d_th": 12.5,
+        "sigma": 0.5,
+        "own_weight": 0.5,
+        "start_as_prior": False,
+        "init_from_prior": False,
+    }
     # half-budget priors are runs of their own; the cell has no single-task rows of its own
     half = by_id[run_id("ours+prior_budget=0.5", "planning_straight", 0)]
     for dep in half.deps:
@@ -305,12 +312,11 @@ AGENT_FACTOR_CASES = [
 @pytest.mark.parametrize(("change", "agent", "key"), AGENT_FACTOR_CASES)
 def test_agent_factor_reaches_only_its_agent(change: tuple, agent: str, key: str) -> None:
     """A factor that one agent reads (``--set pnn_lateral_init=0``, ``pnn_critic_priors=false``,
-    ``spnn_d_th=8``) reaches that agent's policy and nothing else changes; at the paper's value
-    no key is written, so runs made before the factor existed keep their hash."""
+    ``spnn_d_th=8``) reaches that agent's policy and nothing else changes; it is written even at
+    the paper's value (the policies' own defaults are the recommended set-up's)."""
     default = kwargs_by_agent(())
     changed = kwargs_by_agent((change,))
-    assert all(key not in kw for kw in default.values())
-    assert changed[agent][key] == change[1]
+    assert key in default[agent] and changed[agent][key] == change[1]
     assert {a: kw for a, kw in changed.items() if a != agent} == {
         a: kw for a, kw in default.items() if a != agent
     }
@@ -322,11 +328,11 @@ def test_agent_factor_values_checked() -> None:
     # (pnn_lateral_init_sine reaches the PNN through pnn_lateral_init: test_critic_priors_per_path)
     assert {c[0]: (agent, key) for c, agent, key in AGENT_FACTOR_CASES} == AGENT_FACTORS
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["lateral_scale_init"] == 0
-    # on the sine path ours is eq. 13's full scale, the policy's default: nothing written
-    assert "lateral_scale_init" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
-    # both set-ups switch at eq. 15's 12.5 m (the policy's default), so no d_th is written
-    assert "d_th" not in PAPER.sac_kwargs(agent="spnn")["policy_kwargs"]
-    assert "d_th" not in OURS.sac_kwargs(agent="spnn")["policy_kwargs"]
+    # on the sine path ours is eq. 13's full scale
+    assert OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 1
+    # both set-ups switch at eq. 15's 12.5 m
+    assert PAPER.sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 12.5
+    assert OURS.sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 12.5
     assert OURS.with_(spnn_d_th=8.0).sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 8.0
     with pytest.raises(ValueError, match=r"spnn_d_th=0\.0 is not allowed: expected a distance > 0"):
         OURS.with_(spnn_d_th=0.0)

@@ -37,9 +37,7 @@ def test_each_value_names_the_paths_whose_critics_read_the_prior() -> None:
         setup = PAPER.with_(pnn_critic_priors=value)
         for path, on in (("straight", on_straight), ("sine", on_sine)):
             kwargs = setup.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
-            # written only where it departs from the policy's default (True)
-            assert kwargs.get("critic_priors", True) is on, (value, path)
-            assert ("critic_priors" in kwargs) is (not on)
+            assert kwargs["critic_priors"] is on, (value, path)
         # no other agent reads it
         assert "critic_priors" not in setup.sac_kwargs(agent="spnn", path="sine")["policy_kwargs"]
 
@@ -93,16 +91,16 @@ def test_a_per_path_choice_reproduces_each_paths_runs_of_the_uniform_studies() -
 
 
 def test_start_as_prior_is_per_path_too_and_off_in_the_paper() -> None:
-    """``pnn_start_as_prior`` takes the same values; the paper's (random start) writes nothing,
-    ours starts PNN as its prior on the straight path only, and SPNN's factor is a plain bool."""
+    """``pnn_start_as_prior`` takes the same values; the paper's is the random start, ours starts
+    PNN as its prior on the straight path only, and SPNN's factor is a plain bool."""
     assert PAPER.pnn_start_as_prior == "neither" and OURS.pnn_start_as_prior == "straight"
     for path in ("straight", "sine"):
-        assert "start_as_prior" not in PAPER.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
-        assert "start_as_prior" not in PAPER.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]
+        assert PAPER.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]["start_as_prior"] is False
+        assert PAPER.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]["start_as_prior"] is False
         # ours starts SPNN as its selected prior on both paths (with eq. 15's weights at 1)
         assert OURS.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]["start_as_prior"] is True
     assert OURS.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["start_as_prior"] is True
-    assert "start_as_prior" not in OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
+    assert OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["start_as_prior"] is False
     both = PAPER.with_(**parse_setup_changes(["pnn_start_as_prior=true"]))
     assert both.pnn_start_as_prior == "both" and both.on_path("pnn_start_as_prior", "sine")
     assert describe_value("pnn_start_as_prior", "straight") == "on the straight path only"
@@ -127,20 +125,20 @@ def test_ours_per_path_start_reproduces_the_runs_it_was_chosen_on() -> None:
 
 
 def test_init_from_prior_is_per_path_for_both_progressive_agents() -> None:
-    """``pnn_init_from_prior`` / ``spnn_init_from_prior`` take the per-path values; off (the
-    paper's section 3.2) writes nothing into the policy keywords, so earlier runs keep their
-    hashes."""
+    """``pnn_init_from_prior`` / ``spnn_init_from_prior`` take the per-path values; off is the
+    paper's section 3.2."""
     assert PAPER.pnn_init_from_prior == "neither" and PAPER.spnn_init_from_prior == "neither"
     for agent in ("pnn", "spnn"):
         for path in ("straight", "sine"):
-            assert (
-                "init_from_prior" not in PAPER.sac_kwargs(agent=agent, path=path)["policy_kwargs"]
-            )
+            kwargs = PAPER.sac_kwargs(agent=agent, path=path)["policy_kwargs"]
+            assert kwargs["init_from_prior"] is False
     setup = PAPER.with_(
         **parse_setup_changes(["pnn_init_from_prior=sine", "spnn_init_from_prior=true"])
     )
     assert setup.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["init_from_prior"] is True
-    assert "init_from_prior" not in setup.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]
+    assert (
+        setup.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["init_from_prior"] is False
+    )
     for path in ("straight", "sine"):
         assert setup.sac_kwargs(agent="spnn", path=path)["policy_kwargs"]["init_from_prior"]
     assert (
@@ -158,8 +156,7 @@ def test_the_sine_path_can_have_a_lateral_scale_of_its_own() -> None:
     assert (
         setup.sac_kwargs(agent="pnn", path="straight")["policy_kwargs"]["lateral_scale_init"] == 0
     )
-    # 1.0 is the policy's (and the paper's) default: not written, as for pnn_lateral_init=1
-    assert "lateral_scale_init" not in setup.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]
+    assert setup.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 1
     unset = PAPER.with_(pnn_lateral_init=0.0)
     assert unset.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 0
     assert (

@@ -32,6 +32,22 @@ TABLES_2_3 = {
 }
 
 
+def _policy_defaults(algo: str) -> dict:
+    """The keyword defaults of the policy class an algo's entries name."""
+    import inspect
+
+    from sb3_pnn import ProgressivePolicy, SelectivePolicy
+
+    cls = {"pnn": ProgressivePolicy, "spnn": SelectivePolicy}.get(algo)
+    if cls is None:
+        return {}
+    return {
+        name: p.default
+        for name, p in inspect.signature(cls.__init__).parameters.items()
+        if p.default is not inspect.Parameter.empty
+    }
+
+
 def entries(algo: str, setup: str = "ours") -> dict:
     return load_config_file(default_config_path(algo, setup))
 
@@ -69,17 +85,11 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
         expected.pop("start_noise")
         assert env_kwargs == expected, (setup, algo, env_id)
         if algo != "sac_multi":  # SAC-Multi takes its architecture from the prior
+            defaults = _policy_defaults(algo)
             for key, value in sac["policy_kwargs"].items():
-                assert entry["policy_kwargs"][key] == value, (setup, algo, env_id, key)
-            # the set-up's per-path factor: critic_priors is written only where it is off
-            wanted = sac["policy_kwargs"].get("critic_priors", True)
-            assert entry["policy_kwargs"].get("critic_priors", True) == wanted, (setup, env_id)
-            assert "lateral_scale_init" not in entry["policy_kwargs"] or algo == "pnn"
-            # and the lateral scale at the start, per path (1.0, eq. 13's, is written only
-            # where it departs from the policy's default in the set-up, but may be in the file)
-            scale = sac["policy_kwargs"].get("lateral_scale_init", 1.0)
-            if algo == "pnn":
-                assert entry["policy_kwargs"].get("lateral_scale_init", 1.0) == scale, env_id
+                # an entry may leave out a value that is the policy class's own default
+                given = entry["policy_kwargs"].get(key, defaults.get(key))
+                assert given == value, (setup, algo, env_id, key)
         assert entry["n_timesteps"] > 0
 
 
