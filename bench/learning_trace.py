@@ -160,7 +160,11 @@ def main() -> None:
     validation = setup.validation()
     if validation:  # keep_best: what the study does (sb3_pnn.reproduce.running.work.train)
         keeper = KeepBestOnValidation(
-            args.env, validation["every"], validation["episodes"], setup.env_kwargs()
+            args.env,
+            validation["every"],
+            validation["episodes"],
+            setup.env_kwargs(),
+            restore_at_end=False,  # the trace evaluates the last weights, then the kept ones
         )
         callbacks.append(keeper)
     model.learn(10**9, callback=CallbackList(callbacks))

@@ -72,7 +72,11 @@ def main() -> None:
     validation = setup.validation()
     if validation:
         callback = KeepBestOnValidation(
-            args.env, validation["every"], validation["episodes"], setup.env_kwargs()
+            args.env,
+            validation["every"],
+            validation["episodes"],
+            setup.env_kwargs(),
+            restore_at_end=False,  # hash the weights the updates reached
         )
     start = time.process_time()
     model.learn(args.steps, callback=callback)

@@ -61,20 +61,25 @@ class RovEnv(gym.Env):
     rev/min): 0 Turn left 1, 1 Turn left 2, 2 Go straight, 3 Turn right 1, 4 Turn right 2.
     With ``continuous=True``: ``Box(-1, 1, (2,))`` = (surge, yaw), mapped onto the same
     horizontal thrusters by ``rov_envs.physics.thrusters.continuous_to_speeds`` (+yaw turns
-    left; values are clipped to [-1, 1]). One step lasts ``control_period`` seconds (0.2 s).
+    left; values are clipped to [-1, 1]). One step lasts ``control_period`` seconds (default 0.5 s).
 
     ## Observation Space
     ``Dict`` with
     * ``"path"``: ``Box(-1, 1, (2,), float32)`` = [a_c / pi, clip(g / d_L, -1, 1)]: the LOS
       heading deviation a_c (eq. 16, wrapped to (-pi, pi]) and the signed cross-track distance
-      g (positive = vehicle left of the path).
+      g (positive = vehicle left of the path); with ``heading_reference="goal"`` a_c is taken
+      from the bearing to the target point instead. Not on ObstacleAvoidance by default.
+    * ``"goal"`` (ObstacleAvoidance and the planning tasks by default): ``Box(-1, 1, (1,),
+      float32)`` = [heading deviation from the bearing to the goal / pi], the goal being the
+      route point ``goal_distance`` metres ahead of the closest one (or the target point).
     * ``"sonar"`` (tasks with obstacles): ``Box(0, 1, (q,), float32)``: the shortest distance
       to an obstacle surface in each of q sectors of the span S centred ahead, ordered from the
       vehicle's right to its left, divided by ``sonar_range`` (1 = nothing within range).
-    * ``"motion"`` (with ``motion_obs=True``, any task): ``Box([-3, -2], [3, 2], (2,), float32)``
-      = [v, r]: the body-frame sway velocity v (m/s, over ground, + = to the left) and yaw rate r
-      (rad/s, + = turning left), as the vehicle's state holds them after the step, clipped to
-      the bounds (``rov_envs.sim.kernel.MOTION_SWAY_LIMIT``, ``MOTION_YAW_RATE_LIMIT``).
+    * ``"motion"`` (any task; ``motion_obs=True`` by default):
+      ``Box([-3, -2], [3, 2], (2,), float32)`` = [v, r]: the body-frame sway velocity v (m/s,
+      over ground, + = to the left) and yaw rate r (rad/s, + = turning left), as the vehicle's
+      state holds them after the step, clipped to the bounds
+      (``rov_envs.sim.kernel.MOTION_SWAY_LIMIT``, ``MOTION_YAW_RATE_LIMIT``).
 
     ## Rewards
     ``r = r_c + r_v + r_terminal``: eq. (18) (straight paths) or eq. (19) (sine) for r_c,
@@ -82,13 +87,16 @@ class RovEnv(gym.Env):
     reading. ObstacleAvoidance rewards progress toward its goal instead of eq. 18.
 
     ## Starting State
-    At (0, 0) heading along the path's tangent, at rest, thrusters stopped, plus the optional
-    Gaussian ``start_noise``. Layouts named in the README are drawn afresh from the seed.
+    At (0, 0) heading along the path's tangent, at rest, thrusters stopped, plus a Gaussian
+    ``start_noise`` (default 1 m and 5 deg std; ``(0, 0)`` for the paper's exact start).
+    Layouts named in the README are drawn afresh from the seed.
 
     ## Episode End
-    Terminated with -200 when |g| >= d_L, |a_c| >= pi/2 or the distance to an obstacle
-    surface d <= 2 m (eq. 21); terminated with success when the closest path point passes the
-    end of the path (progress >= length) or the vehicle is within 2 m of the target point;
+    Terminated with -200 when |g| >= d_L, the heading rule's deviation reaches pi/2 (|a_c| as
+    eq. 21, or on the planning tasks the deviation from the goal's bearing: ``heading_rule``)
+    or the distance to an obstacle surface d <= 2 m (eq. 21); terminated with success when the
+    closest path point passes the end of the path (progress >= length) or the vehicle is within
+    2 m of the target point;
     truncated at the time limit (default: twice the path's arc length at 1 m/s).
     ``info["is_success"]`` is set on the final step; ``info["end_reason"]`` names the cause.
 

@@ -46,8 +46,9 @@ import numpy as np
 
 from sb3_pnn.common.checks import check_nonnegative
 
-#: The environments' control period (s): ``rov_envs.physics.dynamics.DEFAULT_CONTROL_PERIOD``.
-DEFAULT_DT = 0.2
+#: The environments' default control period (s): ``rov_envs.sim.config.CONTROL_PERIOD`` (a test
+#: checks they agree).
+DEFAULT_DT = 0.5
 #: Table 1 action indices.
 TURN_LEFT_1, TURN_LEFT_2, GO_STRAIGHT, TURN_RIGHT_1, TURN_RIGHT_2 = 0, 1, 2, 3, 4
 #: The environments' default vehicle (``rov_envs.physics.params.DEFAULT_VEHICLE``).
@@ -76,7 +77,8 @@ class PIDController:
     Args:
         kp, ki, kd: PID gains on ``a_c`` (rad): proportional (1/s), integral (1/s^2),
             derivative (-).
-        dt: control period (s) used by the integral and derivative terms (env default 0.2 s).
+        dt: control period (s) used by the integral and derivative terms (default: the envs'
+            default, 0.5 s).
         continuous: emit (surge, yaw) actions for ``continuous=True`` envs instead of Discrete(5).
         turn_thresholds: ``(t1, t2)`` in rad/s: the |u| at which Turn 1 and Turn 2 are chosen
             (default: the default vehicle's, :data:`VEHICLE_GAINS`).

@@ -21,6 +21,9 @@ from stable_baselines3.common.callbacks import BaseCallback
 #: First validation seed: apart from the training seeds (0..) and the study's evaluation seeds
 #: (10000..).
 VALIDATION_SEED = 20_000
+#: Training episodes between two checks, and episodes per check, by default (the study's).
+VALIDATION_EVERY = 25
+VALIDATION_EPISODES = 30
 
 
 class KeepBestOnValidation(BaseCallback):
@@ -28,19 +31,23 @@ class KeepBestOnValidation(BaseCallback):
 
     Args:
         env_id: the task to validate on (normally the training task).
-        every: training episodes between two checks (>= 1).
-        n_episodes: validation episodes per check (>= 1).
-        env_kwargs: keyword arguments of the validation environment (not ``start_noise``).
+        every: training episodes between two checks (>= 1; default 25).
+        n_episodes: validation episodes per check (>= 1; default 30).
+        env_kwargs: keyword arguments of the validation environment (not ``start_noise``;
+            default: those the model trains with).
         seed: first validation seed.
+        restore_at_end: put the best weights back into the model when ``learn`` ends
+            (:meth:`restore`), so that the model saved next is the one kept.
     """
 
     def __init__(
         self,
         env_id: str,
-        every: int,
-        n_episodes: int,
+        every: int = VALIDATION_EVERY,
+        n_episodes: int = VALIDATION_EPISODES,
         env_kwargs: dict[str, Any] | None = None,
         seed: int = VALIDATION_SEED,
+        restore_at_end: bool = True,
     ) -> None:
         super().__init__(verbose=0)
         for name, value in (("every", every), ("n_episodes", n_episodes)):
@@ -51,6 +58,7 @@ class KeepBestOnValidation(BaseCallback):
         self.n_episodes = n_episodes
         self.env_kwargs = dict(env_kwargs or {})
         self.seed = seed
+        self.restore_at_end = bool(restore_at_end)
         self.episodes = 0
         #: One entry per check: {"episode", "success_rate", "mean_return"}.
         self.history: list[dict[str, float]] = []
@@ -65,6 +73,10 @@ class KeepBestOnValidation(BaseCallback):
                 if self.episodes % self.every == 0:
                     self.check()
         return True
+
+    def _on_training_end(self) -> None:
+        if self.restore_at_end:
+            self.restore()
 
     def check(self) -> None:
         """Validate the model now; keep its weights if they are the best so far."""

@@ -99,6 +99,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from rov_envs.physics.params import VEHICLES
+from sb3_pnn.common.callbacks import VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
@@ -108,9 +109,6 @@ from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, P
 TRAIN_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
 #: Uniformly random steps before the first update, for every set-up and agent alike: one batch.
 LEARNING_STARTS = 256
-#: Training episodes between two validation checks, and episodes per check (``keep_best``).
-VALIDATION_EVERY = 25
-VALIDATION_EPISODES = 30
 
 
 def parse_updates(updates: str) -> tuple[tuple[int, str], int]:

@@ -90,8 +90,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
     start = time.time()
     model.learn(total_timesteps=MAX_STEPS, callback=CallbackList(callbacks), progress_bar=False)
     train_s = time.time() - start
-    if keeper is not None:
-        keeper.restore()
+    if keeper is not None:  # the kept weights are back in the model (restore_at_end)
         (tmp / "validation.json").write_text(json.dumps(keeper.to_dict()))
     model.save(tmp / "model.zip")
     (tmp / "episodes.json").write_text(json.dumps(recorder.to_dict()))

@@ -128,3 +128,11 @@ def test_pid_completes_the_sine_path_and_continuous_mode():
         "pid", "PathFollowingStraight-v0", n_episodes=3, env_kwargs={"continuous": True}
     )
     assert res.successes == 3
+
+
+def test_default_period_is_the_environments() -> None:
+    """A controller built without an env integrates over the period the envs step by default."""
+    from rov_envs.sim.config import CONTROL_PERIOD
+    from sb3_pnn.baselines import DEFAULT_DT
+
+    assert DEFAULT_DT == CONTROL_PERIOD
