@@ -133,7 +133,7 @@ class EnvConfig:
     * ``goal_obs``: observe the "goal" part [heading deviation from the bearing to the goal /
       pi] (default: the task's; True for ObstacleAvoidance and the planning tasks).
     * ``goal_distance``: the goal of the "goal" part: D > 0 for the route point D m further
-      along x than the closest one (the target once that lies beyond the path's end), default
+      along x than the closest one (the route continued past its end), default
       25; None for the target point itself.
     * ``heading_rule``: what eq. 21's |a_c| >= pi/2 failure reads: ``"path"`` (the heading
       deviation a_c of ``heading_reference``, as the paper) or ``"goal"`` (the deviation from

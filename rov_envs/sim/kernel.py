@@ -56,6 +56,7 @@ from rov_envs.physics.thrusters import continuous_pair_speeds
 from rov_envs.sim.layouts import draw_layout
 from rov_envs.sim.random_stream import gauss
 from rov_envs.sim.rewards import (
+    END_HEADING,
     END_NONE,
     END_SUCCESS,
     END_TIME_LIMIT,
@@ -195,10 +196,11 @@ def _distance(dx, dy):
 @njit(cache=True, inline="always")
 def goal_point(cfg, progress):
     """The goal the "goal" part and the goal heading rule look at: the target point, or with
-    ``C_GOAL_DIST`` = D > 0 the path point D m beyond the closest one along x (the target once
-    that is past the path's end)."""
+    ``C_GOAL_DIST`` = D > 0 the route point D m beyond the closest one along x, the route
+    continued past its end in the same shape (so that the goal's bearing does not swing round
+    as the vehicle passes beside the target)."""
     dist = cfg[C_GOAL_DIST]
-    if dist <= 0.0 or not progress + dist < cfg[C_LENGTH]:
+    if dist <= 0.0:
         return cfg[C_GOALX], cfg[C_GOALY]
     x = progress + dist
     if cfg[C_PATH] == 1.0:
@@ -212,9 +214,10 @@ def observe(i, lanes, cfg, obstacles, n_obs, rng, sonar_raw, obs_path, obs_sonar
     ``out``.
 
     a_c is measured from the LOS course (eq. 16, lookahead ``C_LOOKAHEAD``), or, with
-    ``C_HEADING_GOAL`` set, from the bearing to the target point; the "goal" column always holds
-    the deviation from that bearing. The sonar looks along the heading of the attitude quaternion
-    (the body x axis projected on the horizontal plane); guidance uses the heading row. The
+    ``C_HEADING_GOAL`` set, from the bearing to the goal point (:func:`goal_point`); the "goal"
+    column always holds the deviation from that bearing. The sonar looks along the heading of
+    the attitude quaternion (the body x axis projected on the horizontal plane); guidance uses
+    the heading row. The
     motion part is the body-frame sway v (m/s, over ground, as the vehicle's velocity state)
     and yaw rate r (rad/s), clipped to
     +-``MOTION_SWAY_LIMIT`` / +-``MOTION_YAW_RATE_LIMIT``.
@@ -385,10 +388,16 @@ def finish_step(
     r_v = reward_obstacle(d)
     a_rule = out[O_AGOAL, i] if cfg[C_RULE_GOAL] != 0.0 else a_c
     code = failure_code(a_rule, g, d, d_L)
+    arrived = out[O_PROG, i] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]
+    if code == END_HEADING and arrived:
+        # the step that reaches the end is a success, even where a vehicle passing beside the
+        # target sees the target's bearing swing past 90 deg (a collision or leaving the
+        # corridor still fails)
+        code = END_NONE
     r_t = 0.0
     if code != END_NONE:
         r_t = FAILURE_REWARD
-    elif out[O_PROG, i] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]:
+    elif arrived:
         code = END_SUCCESS
         r_t = cfg[C_SUCCESS_R]
     steps = out[O_STEPS, i] + 1.0

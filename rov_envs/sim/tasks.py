@@ -27,11 +27,14 @@ REWARD_PROGRESS = 2
 #: (sb3_pnn.reproduce hashes it into every run's configuration). 2: ObstacleAvoidance measures
 #: a_c from the bearing to the goal. 3: the "goal" observation part (ObstacleAvoidance observes
 #: it instead of "path", the planning tasks beside "path"), the goal a route point 25 m ahead,
-#: and the planning tasks' heading rule read from it.
-TASKS_REVISION = 3
+#: and the planning tasks' heading rule read from it. 4: the step that reaches the end is a
+#: success even when the heading rule would fail it (a vehicle passing beside the target saw
+#: the target's bearing swing past 90 deg), and the goal D m ahead follows the route continued
+#: past its end instead of jumping to the target.
+TASKS_REVISION = 4
 
 #: The default goal of the "goal" part and of the goal heading rule: the route point this many
-#: metres further along x than the closest one (the target once past the path's end).
+#: metres further along x than the closest one (the route continued past its end).
 GOAL_DISTANCE = 25.0
 
 #: Heading references of a_c (``TaskSpec.heading_reference``, env argument ``heading_reference``).

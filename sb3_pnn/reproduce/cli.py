@@ -57,8 +57,8 @@ def make_parser() -> argparse.ArgumentParser:
         "write figures 10-20 and report.md.",
         epilog="Budgets (training episodes per run, evaluation episodes per policy and task): "
         f"full = {_budget_text('full', DEFAULT_SEEDS['full'])}; --quick = "
-        f"{_budget_text('quick', DEFAULT_SEEDS['quick'])}. Measured wall times: README.md, "
-        "'Measured figures'; report.md gives this study's own. A killed study resumes when rerun "
+        f"{_budget_text('quick', DEFAULT_SEEDS['quick'])}. Measured wall times: "
+        "docs/benchmarks.md; report.md gives this study's own. A killed study resumes when rerun "
         "with the same arguments; a changed budget needs another --out.",
     )
     parser.add_argument(

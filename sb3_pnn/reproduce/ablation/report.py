@@ -105,7 +105,7 @@ def made_by(command: str, sessions: Sequence[dict]) -> list[str]:
     noted = any(s.get("note") for s in sessions)  # e.g. a session stopped by Ctrl-C
     if (not any(recorded) or set(recorded) == {command}) and not noted:
         return [f"Made by: `{command}`"]
-    lines = ["Made by these sessions, in order (each resumes the folder and adds its runs):", ""]
+    lines = ["Made by these invocations, in order (each resumes the folder and adds its runs):", ""]
     for number, (session, cmd) in enumerate(zip(sessions, recorded, strict=True), start=1):
         took = f"{float(session.get('wall_s', 0.0)) / 60:.0f} min"
         if session.get("note"):
@@ -188,11 +188,11 @@ def render_report(
     clock = (
         f"{wall / 60:.0f} min (--jobs {', '.join(map(str, jobs))})"
         if sessions
-        else "not recorded (every session was interrupted; the per-run times above stand)"
+        else "not recorded (every invocation was interrupted; the per-run times above stand)"
     )
     lines += [
         "",
         f"Runs finished: {len(results.runs)}; not finished or not run: {len(results.missing)}; "
-        f"failed: {len(results.failures)}. Wall clock of the sessions that ran them: {clock}.",
+        f"failed: {len(results.failures)}. Wall clock of the invocations that ran them: {clock}.",
     ]
     return "\n".join(lines) + "\n"

@@ -25,6 +25,9 @@ Factors:
   (0: the same), as ``prior_updates`` is to ``updates``.
 * ``train_start_noise``: training episodes start from a perturbed pose (1 m, 5 deg, the
   evaluation's noise) instead of the paper's exact start point (0, 0).
+* ``pf_start_spread``: the path-following source columns train from a start pose perturbed by
+  this multiple of (1 m, 5 deg) instead (None: as ``train_start_noise``), so that the column
+  learns to come back to the path from as far as the avoidance column leaves the vehicle.
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
   paper's state is o = [a_c, g, d_1..d_q] (section 4.2.2).
 * ``success_reward``: reward on reaching the target (0 = eq. 17-21 literally).
@@ -137,6 +140,7 @@ class TrainingSetup:
     batch_size: int = PAPER_BATCH_SIZE
     prior_batch_size: int = 0
     train_start_noise: bool = False
+    pf_start_spread: float | None = None
     motion_obs: bool = False
     success_reward: float = 0.0
     progress_weighted: bool = False
@@ -196,6 +200,12 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected one of "
                     f"{list(PATH_CHOICES)} (or true / false)"
                 )
+        spread = self.pf_start_spread
+        if spread is not None and not (is_finite_number(spread) and 0 <= spread <= 30):
+            raise ValueError(
+                f"pf_start_spread={spread!r} is not allowed: expected a number in [0, 30] (a "
+                "multiple of 1 m and 5 deg), or None for train_start_noise's value"
+            )
         sine_init = self.pnn_lateral_init_sine
         if sine_init is not None and not is_finite_number(sine_init):
             raise ValueError(
@@ -256,6 +266,11 @@ class TrainingSetup:
         obstacle-avoidance task, ``planning_layout`` for the planning tasks), when they are not
         the task's own."""
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
+        if self.pf_start_spread is not None and env_id is not None:
+            from rov_envs.sim.tasks import task_of_env
+
+            if task_of_env(env_id).name.startswith("PathFollowing"):
+                noise = tuple(float(self.pf_start_spread) * n for n in TRAIN_START_NOISE)
         kwargs = {**self.env_kwargs(), "start_noise": list(noise)}
         layout = self._training_layout(env_id) if env_id is not None else None
         if layout is not None:
@@ -424,6 +439,7 @@ FACTOR_LABELS: dict[str, str] = {
     "batch_size": "samples per update",
     "prior_batch_size": "samples per update of the source columns",
     "train_start_noise": "training start noise",
+    "pf_start_spread": "path-following columns' training start noise (x 1 m, 5 deg)",
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
@@ -462,6 +478,8 @@ def describe_value(name: str, value: Any) -> str:
         return "as the update schedule"
     if name == "prior_batch_size" and not value:
         return "as the samples per update"
+    if name == "pf_start_spread" and value is None:
+        return "as the training start noise"
     if name == "pnn_lateral_init_sine" and value is None:
         return "as on the straight path"
     if name in ("updates", "prior_updates"):

@@ -6,7 +6,7 @@ evaluation success on the original task and the new layouts (50 episodes each, s
 A default is to be chosen from the validation columns; the evaluation columns are reported, not
 tuned on. Used for docs/ablation/spnn_d_th:
 
-    python -m sb3_pnn.reproduce.tools.compare_studies study5 study7 --agent spnn
+    python -m sb3_pnn.reproduce.tools.compare_studies results/study results/study_d_th8 --agent spnn
 """
 
 from __future__ import annotations

@@ -5,10 +5,11 @@ Reads study runs (``<study>/runs/<agent>-<path>-s<seed>``) and single runs of
 lines), so that a study's seeds 0-4 and fresh seeds checked with the script sit in one table.
 The best check is what ``keep_best`` keeps (and what a default is chosen on); the last check is
 the policy a run without ``keep_best`` would report; the count of checks at 90 % or more says
-whether a run keeps what it learned. Used for docs/ablation/README.md, "SPNN's weights":
+whether a run keeps what it learned. Used for docs/ablation/README.md, section 6 (SPNN's
+weights):
 
-    python -m sb3_pnn.reproduce.tools.run_shapes --label "0.5" --study study14 \
-        --logs exp15/random-s5.log ... --label "1" --study study15 --logs exp19/A-s5.log ...
+    python -m sb3_pnn.reproduce.tools.run_shapes --label "0.5" --study results/study \
+        --logs paper-s5.log ... --label "1" --study results/study_unit --logs unit-s5.log ...
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The script behind docs/ablation/README.md's "third session" ObstacleAvoidance rows, kept as run.
+"""The script behind docs/ablation/README.md's ObstacleAvoidance heading-reference rows (section 4).
 
 A DiscreteSAC (or PNN / SPNN) run on the ``ours`` set-up (``--setup`` JSON changes it), with
 DiscreteSAC keyword arguments (``--sac``, e.g. a fixed ``{"ent_coef": 0.05}``) and environment

@@ -62,3 +62,51 @@ def test_heading_limit_follows_the_reference() -> None:
     assert path_env.step(2)[4]["end_reason"] == "heading"
     with pytest.raises(ValueError, match="heading_reference='north' is not allowed"):
         paper_env("rov_envs/ObstacleAvoidance-v0", heading_reference="north")
+
+
+@pytest.mark.parametrize("goal_distance", [None, 25.0])
+def test_passing_beside_the_target_is_a_success(goal_distance) -> None:
+    """A vehicle that goes straight 3-4 m beside the line reaches the end as a success under the
+    goal heading rule: the target's bearing swings past 90 deg on the step that passes it, and
+    that step counts as arriving, not as turning away."""
+    env = paper_env(
+        "rov_envs/PathFollowingStraight-v0",
+        length=30.0,
+        start_noise=(3.0, 0.0),
+        heading_rule="goal",
+        goal_distance=goal_distance,
+    )
+    for seed in range(500):
+        _, info = env.reset(seed=seed)
+        if 3.0 < abs(info["position"][1]) < 4.0 and info["position"][0] < 1.0:
+            break
+    else:
+        pytest.fail("no start pose 3-4 m beside the line in 500 seeds")
+    reasons = []
+    for _ in range(200):
+        _, _, terminated, truncated, info = env.step(2)  # Go straight
+        if terminated or truncated:
+            reasons.append(info["end_reason"])
+            break
+    assert reasons == ["success"]
+    assert info["is_success"]
+
+
+def test_goal_ahead_follows_the_route_past_its_end() -> None:
+    """With goal_distance D the "goal" part looks at the route point D m ahead of the closest
+    one, the route continued past its end (y = 0 for the straight line), never at the target."""
+    env = paper_env(
+        "rov_envs/PathFollowingStraight-v0",
+        length=30.0,
+        start_noise=(2.0, 0.1),
+        goal_obs=True,
+        goal_distance=25.0,
+    )
+    obs, info = env.reset(seed=3)
+    for _ in range(40):
+        (x, y), psi = info["position"], info["heading"]
+        expected = _wrap(psi - math.atan2(-y, x + 25.0 - x))  # closest point (x, 0), goal x + 25
+        assert obs["goal"][0] == pytest.approx(expected / math.pi, abs=1e-6)
+        obs, _, terminated, truncated, info = env.step(2)
+        if terminated or truncated:
+            break

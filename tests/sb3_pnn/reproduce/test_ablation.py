@@ -239,7 +239,7 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     more += ["--tasks", "oa", "--no-progress", "--out", str(out)]
     assert main(more, work=fake_work) == 0
     report = (out / "report.md").read_text()
-    assert "Made by these sessions, in order" in report
+    assert "Made by these invocations, in order" in report
     assert (
         "1. `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2 --cells paper,ours" in report
     )
