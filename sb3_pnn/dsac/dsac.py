@@ -115,6 +115,8 @@ def discrete_sac_losses(
     ent_coef: th.Tensor | float,
     log_ent_coef: th.Tensor | None = None,
     target_entropy: float = 0.0,
+    prior_log_probs: th.Tensor | None = None,
+    prior_kl: float = 0.0,
 ) -> DiscreteSACLosses:
     """
     Critic, actor and entropy-coefficient losses of discrete SAC (see the module docstring).
@@ -130,6 +132,8 @@ def discrete_sac_losses(
     :param ent_coef: alpha (detached)
     :param log_ent_coef: log(alpha) with gradient when alpha is learned, else None
     :param target_entropy: H_target in nats (only used when ``log_ent_coef`` is given)
+    :param prior_log_probs: log pi_0(.|s) of a reference policy, (B, n_actions), without
+        gradient; with ``prior_kl`` = beta > 0 the actor loss adds beta * KL(pi || pi_0)
     """
     log_probs = F.log_softmax(logits, dim=1)
     probs = log_probs.exp()
@@ -139,6 +143,9 @@ def discrete_sac_losses(
 
     min_q = th.stack(q_values, dim=0).min(dim=0).values.detach()
     actor_loss = (probs * (ent_coef * log_probs - min_q)).sum(dim=1).mean()
+    if prior_log_probs is not None and prior_kl > 0:
+        kl = (probs * (log_probs - prior_log_probs)).sum(dim=1).mean()
+        actor_loss = actor_loss + prior_kl * kl
 
     # E_s[sum_a pi log pi] = -E_s[H(pi(.|s))], no gradient to the actor
     neg_entropy = (probs * log_probs).sum(dim=1).mean().detach()
@@ -337,6 +344,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         self._update_learning_rate(optimizers)
 
         critic_params, target_params = self._polyak_params()
+        prior_kl = float(getattr(self.policy, "prior_kl", 0.0))
         # Detached tensors, turned into floats once after the loop (no sync per step)
         ent_coef_losses, ent_coefs, entropies = [], [], []
         actor_losses, critic_losses = [], []
@@ -361,14 +369,22 @@ class DiscreteSAC(OffPolicyAlgorithm):
                     ent_coef,
                 )
 
+            if prior_kl > 0:  # the actor's pass also gives the priors' own policy
+                logits, prior_log_probs = self.actor.logits_and_prior_log_probs(  # type: ignore[attr-defined]
+                    replay_data.observations
+                )
+            else:
+                logits, prior_log_probs = self.actor(replay_data.observations), None
             losses = discrete_sac_losses(
-                logits=self.actor(replay_data.observations),
+                logits=logits,
                 q_values=self.critic(replay_data.observations),
                 target_q_values=target_q_values,
                 actions=replay_data.actions,
                 ent_coef=ent_coef,
                 log_ent_coef=self.log_ent_coef,
                 target_entropy=self.target_entropy,
+                prior_log_probs=prior_log_probs,
+                prior_kl=prior_kl,
             )
 
             # Optimize the entropy coefficient (alpha, the "temperature")

@@ -111,8 +111,13 @@ class FrozenColumn(nn.Module):
     @th.no_grad()
     def forward(self, x: th.Tensor) -> th.Tensor:
         """The column's own output (logits or Q-values) for input x."""
-        hidden = self.hidden(x)
-        return F.linear(hidden[-1] if hidden else x, *self.layer(self.n_layers - 1))
+        return self.output(self.hidden(x), x)
+
+    @th.no_grad()
+    def output(self, hidden: Sequence[th.Tensor], x: th.Tensor) -> th.Tensor:
+        """The column's own output from its hidden activations ``hidden`` (:meth:`hidden`) for
+        input x (which only a column without hidden layers reads)."""
+        return F.linear(hidden[-1] if len(hidden) else x, *self.layer(self.n_layers - 1))
 
 
 class ProgressiveNet(nn.Module):

@@ -35,7 +35,9 @@ from stable_baselines3.common.torch_layers import (
 )
 from stable_baselines3.common.type_aliases import PyTorchObs, Schedule
 from torch import nn
+from torch.nn import functional as F
 
+from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
 from sb3_pnn.progressive.gates import DistanceGate
@@ -98,6 +100,30 @@ class ProgressiveActor(BasePolicy):
         if g is not None:
             self._count_leads(g)
         return self.net(features, hidden, weights, self.own_weight)
+
+    def logits_and_prior_log_probs(self, obs: PyTorchObs) -> tuple[th.Tensor, th.Tensor]:
+        """The logits of column k (with gradient) and, without gradient, the log-probabilities
+        of the priors' own policy pi_0: for the SPNN the gate-selected prior's (a soft or learned
+        gate mixes the priors' log-probabilities by its weights, then renormalises); for a PNN
+        the prior's (the mean over several). One pass: the priors' hidden activations feed both
+        the laterals and pi_0."""
+        pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
+        features = self.features_extractor(pre)
+        inputs = [feed(pre) for feed in self.feeds]
+        hidden = self.net.prior_hidden(inputs)
+        weights, g = _lateral_weights(self.gate, self.sigma, pre, features)
+        if g is not None:
+            self._count_leads(g)
+        logits = self.net(features, hidden, weights, self.own_weight)
+        with th.no_grad():
+            own = [
+                F.log_softmax(col.output(h, x), dim=1)
+                for col, h, x in zip(self.net.priors, hidden, inputs, strict=True)
+            ]
+            stacked = th.stack(own, dim=1)  # (B, n_priors, n_actions)
+            mixed = stacked.mean(dim=1) if g is None else (g.unsqueeze(2) * stacked).sum(dim=1)
+            prior_log_probs = F.log_softmax(mixed, dim=1)
+        return logits, prior_log_probs
 
     def _count_leads(self, g: th.Tensor) -> None:
         # Rollout steps are predicted in eval mode; the actor-loss pass is a training pass with
@@ -222,6 +248,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         parameters of the second column are usually initialized with Theta^(1) or randomly"
         (section 3.2 then starts it at random). Needs the new column's hidden widths to be the
         first prior's
+    :param prior_kl: Weight beta of a term beta * KL(pi || pi_0) added to the actor's loss,
+        pi_0 the frozen priors' own policy (the SPNN's gate-selected prior,
+        :meth:`ProgressiveActor.logits_and_prior_log_probs`): it keeps the new policy near what
+        its priors do where reward does not say otherwise (not in the paper; 0: off). With
+        alpha the entropy coefficient, the actor's optimum becomes
+        pi ~ pi_0^(beta / (alpha + beta)) exp(Q / (alpha + beta))
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -249,8 +281,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         critic_priors: bool = True,
         start_as_prior: bool = False,
         init_from_prior: bool = False,
+        prior_kl: float = 0.0,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
+        if not is_finite_number(prior_kl) or prior_kl < 0:
+            raise ValueError(f"prior_kl must be a finite number >= 0, got {prior_kl!r}")
+        self.prior_kl = float(prior_kl)
         if features_extractor_class is None:
             features_extractor_class = (
                 CombinedExtractor
@@ -337,6 +373,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             critic_priors=self.critic_priors,
             start_as_prior=self.start_as_prior,
             init_from_prior=self.init_from_prior,
+            prior_kl=self.prior_kl,
         )
 
     # --- networks -------------------------------------------------------------------------

@@ -91,6 +91,8 @@ class SelectivePolicy(ProgressivePolicy):
     :param gate: ``"hard"`` (paper), ``"soft"`` or ``"learned"`` (see :mod:`.gates`)
     :param temperature: Temperature (metres) of the soft gate
     :param gate_hidden: Hidden width of the learned gate
+    :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
+        (see :class:`ProgressivePolicy`; 0: off, the paper)
     """
 
     def __init__(
@@ -122,6 +124,7 @@ class SelectivePolicy(ProgressivePolicy):
         critic_priors: bool = True,
         start_as_prior: bool = True,
         init_from_prior: bool = False,
+        prior_kl: float = 0.0,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -164,6 +167,7 @@ class SelectivePolicy(ProgressivePolicy):
             critic_priors,
             start_as_prior,
             init_from_prior,
+            prior_kl,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

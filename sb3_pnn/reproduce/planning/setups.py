@@ -72,6 +72,10 @@ Factors:
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
   only. Only SPNN runs read them.
+* ``spnn_prior_kl``, ``pnn_prior_kl``: weight beta of KL(pi || pi_0) in the actor's loss, pi_0
+  the frozen priors' own policy (the SPNN's gate-selected prior; ``prior_kl`` of
+  :class:`sb3_pnn.ProgressivePolicy`): the new policy stays near what its priors do where
+  reward does not pay for more (not in the paper: 0). Only SPNN / PNN runs read them.
 * ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
@@ -157,6 +161,8 @@ class TrainingSetup:
     spnn_d_th: float = PAPER_D_TH
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
+    spnn_prior_kl: float = 0.0
+    pnn_prior_kl: float = 0.0
     goal_obs: bool = False
     goal_distance: float | None = None
     heading_rule: str = "path"
@@ -187,7 +193,7 @@ class TrainingSetup:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
             )
-        for name in ("spnn_sigma", "spnn_own_weight"):
+        for name in ("spnn_sigma", "spnn_own_weight", "spnn_prior_kl", "pnn_prior_kl"):
             value = getattr(self, name)
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
@@ -397,6 +403,8 @@ AGENT_FACTORS: dict[str, tuple[str, str]] = {
     "spnn_d_th": ("spnn", "d_th"),
     "spnn_sigma": ("spnn", "sigma"),
     "spnn_own_weight": ("spnn", "own_weight"),
+    "spnn_prior_kl": ("spnn", "prior_kl"),
+    "pnn_prior_kl": ("pnn", "prior_kl"),
 }
 _FIELD_DEFAULTS: dict[str, Any] = {f.name: f.default for f in fields(TrainingSetup)}
 
@@ -456,6 +464,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_d_th": "SPNN switch distance d_th (m)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
+    "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
+    "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "goal_distance": "goal: route point ahead (m)",
     "heading_rule": "heading rule of the planning tasks reads",

@@ -30,6 +30,7 @@ from typing import Any
 
 from sb3_pnn.reproduce.planning.plan import RunSpec
 from sb3_pnn.reproduce.running.store import RunStore
+from sb3_pnn.reproduce.running.worker_init import init_worker
 
 WorkFn = Callable[[RunSpec, Path, dict[str, Path]], dict[str, Any]]
 
@@ -70,18 +71,9 @@ class ExecutionSummary:
         )
 
 
-def _init_worker() -> None:
-    try:
-        import torch
-
-        torch.set_num_threads(1)
-    except ImportError:  # stand-in work in tests does not need torch
-        pass
-
-
 def run_one(work: WorkFn, spec_data: dict[str, Any], out: str) -> tuple[str, str, str]:
     """Do one run in this process and commit it; returns (run_id, status, error text)."""
-    _init_worker()
+    init_worker()
     spec = RunSpec.from_dict(spec_data)
     store = RunStore(out)
     tmp = None

@@ -27,6 +27,7 @@ from typing import Any
 
 from sb3_pnn.reproduce.planning.plan import RunSpec
 from sb3_pnn.reproduce.running.store import RunStore
+from sb3_pnn.reproduce.running.worker_init import init_worker
 
 #: The Ray release this package is tested with (``pip install sb3-pnn[ray]`` pins it).
 RAY_VERSION = "2.60.0"
@@ -69,9 +70,7 @@ def run_remotely(
     output files; the manifest fields the worker measured). Importable without Ray."""
     import traceback
 
-    from sb3_pnn.reproduce.running.executor import _init_worker
-
-    _init_worker()
+    init_worker()
     spec = RunSpec.from_dict(spec_data)
     started, cpu_started = time.time(), time.process_time()
     with tempfile.TemporaryDirectory(prefix=f"sb3pnn-{spec.run_id}-") as scratch:

@@ -75,6 +75,7 @@ def test_plan_priors_per_cell_and_before_use() -> None:
         "own_weight": 0.5,
         "start_as_prior": False,
         "init_from_prior": False,
+        "prior_kl": 0.0,
     }
     # half-budget priors are runs of their own; the cell has no single-task rows of its own
     half = by_id[run_id("ours+prior_budget=0.5", "planning_straight", 0)]
@@ -306,6 +307,8 @@ AGENT_FACTOR_CASES = [
     (("spnn_init_from_prior", True), "spnn", "init_from_prior"),
     (("spnn_sigma", 1.0), "spnn", "sigma"),
     (("spnn_own_weight", 1.0), "spnn", "own_weight"),
+    (("spnn_prior_kl", 2.0), "spnn", "prior_kl"),
+    (("pnn_prior_kl", 2.0), "pnn", "prior_kl"),
 ]
 
 
@@ -338,7 +341,7 @@ def test_agent_factor_values_checked() -> None:
         OURS.with_(spnn_d_th=0.0)
 
 
-@pytest.mark.parametrize("name", ["spnn_sigma", "spnn_own_weight"])
+@pytest.mark.parametrize("name", ["spnn_sigma", "spnn_own_weight", "spnn_prior_kl", "pnn_prior_kl"])
 @pytest.mark.parametrize("bad", [-0.5, float("inf"), float("nan"), True, "half"])
 def test_spnn_mixing_weights_checked(name: str, bad: object) -> None:
     """Eq. 15's weights are finite numbers >= 0; anything else is refused by name."""

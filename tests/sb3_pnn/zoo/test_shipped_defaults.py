@@ -68,7 +68,9 @@ def test_enjoy_runs_the_model_train_made(trained: Path) -> None:
         "enjoy", "--algo", "dsac", "--env", PF_ENV, "-f", "logs", "-n", "50", "--no-render",
         cwd=trained,
     )  # fmt: skip
-    assert "Loading" in result.stdout and "No episode ended within 50 steps" in result.stdout
+    assert "Loading" in result.stdout
+    # what the 600-step policy does is not the point: enjoy played it and said how it went
+    assert "Success rate:" in result.stdout or "No episode ended within 50" in result.stdout
     assert "Setting torch.num_threads to 1" in result.stdout
 
 

@@ -1,0 +1,122 @@
+"""``prior_kl``: the actor's loss adds beta * KL(pi || pi_0), pi_0 the priors' own policy.
+
+pi_0 is the gate-selected prior's policy for the SPNN (per sample) and the prior's for a PNN;
+the term is exactly beta times the KL divergence; it pulls a trained policy toward pi_0; it is
+saved with the model; beta = 0 takes the plain actor pass.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch as th
+import torch.nn.functional as F
+from progressive_helpers import SONAR_RANGE, batch, toy_model
+
+from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
+from sb3_pnn.dsac.dsac import discrete_sac_losses
+
+NEAR_DISTANCES = np.array([13.0, 12.0, 24.0, 0.5, 3.0])  # d_th 12.5: far, near, far, near, near
+
+
+def _spnn(paths, **kwargs):
+    kw = dict(priors=[paths["pf_dsac"], paths["oa_dsac"]], net_arch=[16, 16])
+    kw.update(kwargs)
+    return toy_model(SelectivePolicy, kw)
+
+
+def _obs(space):
+    obs = batch(space, len(NEAR_DISTANCES), seed=3)
+    sonar = np.ones_like(obs["sonar"])
+    rows = np.arange(len(NEAR_DISTANCES))
+    sonar[rows, (rows * 2) % 9] = NEAR_DISTANCES / SONAR_RANGE
+    obs["sonar"] = sonar.astype(np.float32)
+    return obs
+
+
+def _tensor(policy, obs, keys=None):
+    return policy.obs_to_tensor(obs if keys is None else {k: obs[k] for k in keys})[0]
+
+
+def test_reference_is_the_selected_priors_policy(priors):
+    model = _spnn(priors, start_as_prior=False)
+    policy = model.policy
+    pf = DiscreteSAC.load(priors["pf_dsac"], device="cpu").policy
+    oa = DiscreteSAC.load(priors["oa_dsac"], device="cpu").policy
+    obs = _obs(model.observation_space)
+    near = th.as_tensor(NEAR_DISTANCES <= 12.5)
+    logits, reference = policy.actor.logits_and_prior_log_probs(_tensor(policy, obs))
+    with th.no_grad():
+        assert th.equal(logits, policy.actor(_tensor(policy, obs)))
+        expected = th.where(
+            near[:, None],
+            F.log_softmax(oa.actor(_tensor(oa, obs)), dim=1),
+            F.log_softmax(pf.actor(_tensor(pf, obs, ("path",))), dim=1),
+        )
+    assert th.allclose(reference, expected, atol=1e-6)
+    assert logits.requires_grad and not reference.requires_grad
+
+
+def test_pnn_reference_is_its_priors_policy(priors):
+    model = toy_model(ProgressivePolicy, dict(priors=[priors["pf_dsac"]], net_arch=[16, 16]))
+    pf = DiscreteSAC.load(priors["pf_dsac"], device="cpu").policy
+    obs = _obs(model.observation_space)
+    _, reference = model.policy.actor.logits_and_prior_log_probs(_tensor(model.policy, obs))
+    with th.no_grad():
+        expected = F.log_softmax(pf.actor(_tensor(pf, obs, ("path",))), dim=1)
+    assert th.allclose(reference, expected, atol=1e-6)
+
+
+def test_the_term_is_beta_times_the_kl_divergence():
+    gen = th.Generator().manual_seed(0)
+    logits = th.randn(8, 5, generator=gen)
+    reference = F.log_softmax(th.randn(8, 5, generator=gen), dim=1)
+    q = (th.randn(8, 5, generator=gen), th.randn(8, 5, generator=gen))
+    common = dict(target_q_values=th.zeros(8, 1), actions=th.zeros(8, 1), ent_coef=0.2)
+    plain = discrete_sac_losses(logits, q, **common).actor_loss
+    with_kl = discrete_sac_losses(
+        logits, q, **common, prior_log_probs=reference, prior_kl=3.0
+    ).actor_loss
+    log_pi = F.log_softmax(logits, dim=1)
+    kl = (log_pi.exp() * (log_pi - reference)).sum(dim=1).mean()
+    assert with_kl.item() == pytest.approx(plain.item() + 3.0 * kl.item(), rel=1e-6)
+    off = discrete_sac_losses(logits, q, **common, prior_log_probs=reference, prior_kl=0.0)
+    assert th.equal(off.actor_loss, plain)
+
+
+def _kl_to_reference(model, obs):
+    policy = model.policy
+    with th.no_grad():
+        logits, reference = policy.actor.logits_and_prior_log_probs(_tensor(policy, obs))
+        log_pi = F.log_softmax(logits, dim=1)
+        return float((log_pi.exp() * (log_pi - reference)).sum(dim=1).mean())
+
+
+def test_it_pulls_the_policy_toward_the_priors(priors):
+    """The toy task pays for action 2 only; the priors do not prefer it. A strong KL term keeps
+    the trained policy closer to the priors than the same run without it."""
+    obs = _obs(_spnn(priors).observation_space)
+    kls = {}
+    for beta in (0.0, 10.0):
+        model = _spnn(priors, start_as_prior=True, prior_kl=beta)
+        model.learn(400)
+        kls[beta] = _kl_to_reference(model, obs)
+    assert kls[10.0] < 0.5 * kls[0.0], kls
+
+
+def test_zero_takes_the_plain_path_and_the_weight_is_saved(priors, tmp_path, monkeypatch):
+    """beta = 0 (the default) trains through the plain actor pass: the reference policy is
+    never computed, so the updates are the same operations as before the option existed."""
+    model = _spnn(priors)
+    assert model.policy.prior_kl == 0.0
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the reference policy was computed with prior_kl = 0")
+
+    monkeypatch.setattr(model.policy.actor, "logits_and_prior_log_probs", refuse)
+    model.learn(60)
+    model = _spnn(priors, prior_kl=2.5)
+    model.save(tmp_path / "spnn.zip")
+    assert DiscreteSAC.load(tmp_path / "spnn.zip", device="cpu").policy.prior_kl == 2.5
+    with pytest.raises(ValueError, match="prior_kl must be a finite number >= 0, got -1"):
+        _spnn(priors, prior_kl=-1)
