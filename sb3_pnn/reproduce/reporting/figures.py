@@ -26,6 +26,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 from sb3_pnn.common.atomic import write_atomic
 from sb3_pnn.reproduce.planning.plan import (  # noqa: E402
@@ -44,6 +45,16 @@ COLORS = {
     "sac_multi": "tab:orange",
     "pid": "tab:gray",
     "adaptive_pid": "black",
+}
+#: Line styles, so that a policy drawn under another stays visible (PNN and SPNN often share a
+#: route).
+STYLES = {
+    "pnn": (0, (5, 2)),
+    "spnn": "-",
+    "sac_single": (0, (1, 1.5)),
+    "sac_multi": (0, (3, 1, 1, 1)),
+    "pid": "-",
+    "adaptive_pid": "-",
 }
 PATH_TITLES = {"straight": "straight line", "sine": "sinusoidal curve"}
 #: (figure number, path, evaluation label, title) of the evaluation figures.
@@ -132,6 +143,8 @@ def learning_curves(results: StudyResults, folder: Path) -> list[str]:
             )
             ax.fill_between(ep, band[1], band[2], color=COLORS[agent], alpha=0.2)
         ax.set_title(f"({letter}) {PATH_TITLES[path]} with local path planning")
+        ax.text(0.99, 0.02, "shaded: 95 % confidence interval of the mean over seeds",
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=7)  # fmt: skip
         ax.set_xlabel("episode")
         ax.set_ylabel("episode return (moving average)")
         ax.legend(fontsize=8)
@@ -215,16 +228,17 @@ def evaluation_traces(results: StudyResults, folder: Path) -> list[str]:
                 + ("" if seed is None else f" s{seed}")
                 + f" ({tr['end_reason']})"
             )
-            ax_a.plot(tr["x"], tr["y"], color=COLORS[agent], lw=1.3, label=tag)
+            style = {"color": COLORS[agent], "ls": STYLES[agent]}
+            ax_a.plot(tr["x"], tr["y"], lw=1.3, label=tag, **style)
             t = np.asarray(tr["t"], dtype=float)
-            ax_b.plot(t, np.degrees(tr["heading_error"]), color=COLORS[agent], lw=1.0)
-            ax_c.plot(t, np.abs(tr["cross_track"]), color=COLORS[agent], lw=1.0)
+            ax_b.plot(t, np.degrees(tr["heading_error"]), lw=1.0, **style)
+            ax_c.plot(t, np.abs(tr["cross_track"]), lw=1.0, **style)
         ax_a.set_title(f"(a) trajectories: {title}")
         ax_a.legend(fontsize=7, ncol=3)
-        ax_b.set_title("(b) heading deviation a_c")
+        ax_b.set_title("(b) heading deviation $a_c$")
         ax_b.set_xlabel("t (s)")
         ax_b.set_ylabel("deg")
-        ax_c.set_title("(c) distance from the target route |g|")
+        ax_c.set_title("(c) distance from the target route $|g|$")
         ax_c.set_xlabel("t (s)")
         ax_c.set_ylabel("m")
         for ax in (ax_b, ax_c):
@@ -268,8 +282,7 @@ def success_bars(results: StudyResults, folder: Path) -> list[str]:
                         color="k", capsize=2, lw=0.8)  # fmt: skip
             paper = PAPER_SUCCESS.get(agent)
             if paper is not None:
-                ax.plot(x, paper[i], marker="D", mfc="white", mec=COLORS[agent], ms=6, ls="none",
-                        label="paper (hollow diamonds)" if i == 0 and j == 0 else None)  # fmt: skip
+                ax.plot(x, paper[i], marker="D", mfc="white", mec=COLORS[agent], ms=6, ls="none")
     if not any_data:
         plt.close(fig)
         return []
@@ -281,7 +294,10 @@ def success_bars(results: StudyResults, folder: Path) -> list[str]:
         "95 % intervals covering seed spread; diamonds: the paper)",
         fontsize=10,
     )
-    ax.legend(fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.1))
+    handles, labels = ax.get_legend_handles_labels()
+    handles.append(Line2D([], [], marker="D", mfc="white", mec="k", ms=6, ls="none"))
+    labels.append("the paper (edge in the policy's colour)")
+    ax.legend(handles, labels, fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.1))
     ax.grid(axis="y", alpha=0.3)
     return [_save(fig, folder, "fig20_success_rates.png")]
 

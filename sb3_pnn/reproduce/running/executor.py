@@ -109,9 +109,7 @@ def _progress(total: int, initial: int, quiet: bool) -> Any:
         desc="runs",
         unit="run",
         disable=quiet,
-        bar_format=(
-            "{desc}: {n_fmt}/{total_fmt} done |{bar}| elapsed {elapsed} (eta {remaining}) {postfix}"
-        ),
+        bar_format=("{desc}: {n_fmt}/{total_fmt} done |{bar}| elapsed {elapsed} {postfix}"),
         dynamic_ncols=True,
     )
 
@@ -158,6 +156,19 @@ class _Schedule:
         self.started = 0
         self.quiet = quiet
         self.bar = _progress(len(plan), len(self.finished), quiet)
+        self.t0 = time.time()
+        self.episodes_left = sum(spec.episodes for spec in self.pending)
+        self.episodes_done = 0
+
+    def eta(self) -> str:
+        """The time left, from the episodes this invocation has finished so far (runs differ
+        tenfold in length, so counting runs, as a plain progress bar does, misleads; before the
+        first run ends there is nothing to go on)."""
+        if self.episodes_done == 0:
+            return "eta after the first run"
+        rate = self.episodes_done / max(time.time() - self.t0, 1e-9)
+        left = int(self.episodes_left / rate)
+        return f"eta {left // 3600}:{left % 3600 // 60:02d}:{left % 60:02d}"
 
     def block_failed_dependents(self) -> None:
         """Skip (transitively) the runs whose dependency failed."""
@@ -167,12 +178,16 @@ class _Schedule:
             if bad:
                 summary.blocked[spec.run_id] = bad[0]
                 self.pending.remove(spec)
+                self.episodes_left -= spec.episodes
                 self.bar.update(1)
 
     def ready(self) -> list[RunSpec]:
         return [s for s in self.pending if all(d in self.finished for d in s.deps)]
 
     def settle(self, run_id: str, status: str, error: str) -> None:
+        episodes = self.by_id[run_id].episodes
+        self.episodes_left -= episodes
+        self.episodes_done += episodes if status != "failed" else 0
         if status == "failed":
             self.summary.failed[run_id] = error
             if not self.quiet:
@@ -244,7 +259,7 @@ def execute(
                 schedule.block_failed_dependents()
                 _launch(schedule, pool, jobs, max_new_runs)
                 names = ", ".join(sorted(schedule.running.values()))
-                schedule.bar.set_postfix_str(f"running: {names}"[:120])
+                schedule.bar.set_postfix_str(f"{schedule.eta()}; running: {names}"[:140])
                 if not schedule.running:
                     break  # nothing can start (limit reached or all blocked)
                 for handle in pool.wait(list(schedule.running)):

@@ -152,3 +152,27 @@ def test_ctrl_c_records_the_session_and_the_same_command_resumes(tmp_path) -> No
     assert len(_snapshot(out)) == len(plan)
     assert "stopped" in (out / "report.md").read_text()  # the report names the stopped session
     assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
+
+
+def test_eta_counts_episodes_not_runs(tmp_path, monkeypatch) -> None:
+    """The time left scales with the episodes still to train: a first short run that took 10 s
+    for 1 of 11 episodes leaves 100 s, not 10 s per remaining run."""
+    from sb3_pnn.reproduce.planning.plan import RunSpec
+    from sb3_pnn.reproduce.running import executor
+
+    specs = [
+        RunSpec(run_id="short", kind="prior", agent="sac", path=None, env_id=None, seed=0,
+                episodes=1),
+        RunSpec(run_id="long", kind="prior", agent="sac", path=None, env_id=None, seed=0,
+                episodes=10),
+    ]  # fmt: skip
+    store = RunStore(tmp_path)
+    store.open()
+    clock = [1000.0]
+    monkeypatch.setattr(executor.time, "time", lambda: clock[0])
+    schedule = executor._Schedule(specs, store, quiet=True)
+    assert schedule.eta() == "eta after the first run"
+    clock[0] += 10.0
+    schedule.settle("short", "done", "")
+    assert schedule.eta() == "eta 0:01:40"
+    store.close()
