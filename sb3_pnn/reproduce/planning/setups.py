@@ -25,8 +25,8 @@ Factors:
   (0: the same), as ``prior_updates`` is to ``updates``.
 * ``train_start_noise``: training episodes start from a perturbed pose (1 m, 5 deg, the
   evaluation's noise) instead of the paper's exact start point (0, 0).
-* ``pf_start_spread``: the path-following source columns train from a start pose perturbed by
-  this multiple of (1 m, 5 deg) instead (None: as ``train_start_noise``), so that the column
+* ``pf_start_spread``: with ``train_start_noise``, the path-following source columns train from
+  a start pose perturbed by this multiple of (1 m, 5 deg) instead (None: 1), so that the column
   learns to come back to the path from as far as the avoidance column leaves the vehicle.
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
   paper's state is o = [a_c, g, d_1..d_q] (section 4.2.2).
@@ -272,7 +272,7 @@ class TrainingSetup:
         obstacle-avoidance task, ``planning_layout`` for the planning tasks), when they are not
         the task's own."""
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
-        if self.pf_start_spread is not None and env_id is not None:
+        if self.train_start_noise and self.pf_start_spread is not None and env_id is not None:
             from rov_envs.sim.tasks import task_of_env
 
             if task_of_env(env_id).name.startswith("PathFollowing"):
@@ -419,6 +419,7 @@ OURS = TrainingSetup(
     updates="step:4",
     prior_updates="step:1",
     train_start_noise=True,
+    pf_start_spread=5.0,
     motion_obs=True,
     success_reward=200.0,
     progress_weighted=True,
