@@ -369,12 +369,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
                     ent_coef,
                 )
 
-            if prior_kl > 0:  # the actor's pass also gives the priors' own policy
-                logits, prior_log_probs = self.actor.logits_and_prior_log_probs(  # type: ignore[attr-defined]
-                    replay_data.observations
-                )
-            else:
-                logits, prior_log_probs = self.actor(replay_data.observations), None
+            logits, prior_log_probs = self._actor_pass(replay_data.observations, prior_kl)
             losses = discrete_sac_losses(
                 logits=logits,
                 q_values=self.critic(replay_data.observations),
@@ -422,6 +417,17 @@ class DiscreteSAC(OffPolicyAlgorithm):
             self.logger.record("train/entropy", _mean(entropies))
             if len(ent_coef_losses) > 0:
                 self.logger.record("train/ent_coef_loss", _mean(ent_coef_losses))
+        self._record_policy_logs()
+
+    def _actor_pass(self, observations: Any, prior_kl: float) -> tuple[th.Tensor, th.Tensor | None]:
+        """The actor's logits and, when the prior KL term is on (``prior_kl`` > 0, progressive
+        policies), the log-probabilities of the frozen priors' own policy from the same pass."""
+        if prior_kl > 0:
+            return self.actor.logits_and_prior_log_probs(observations)  # type: ignore[attr-defined]
+        return self.actor(observations), None
+
+    def _record_policy_logs(self) -> None:
+        """The policy's own training figures (e.g. SPNN's gate), when it reports any."""
         extra_logs = getattr(self.policy, "extra_logs", None)
         if callable(extra_logs):
             for name, value in extra_logs().items():
