@@ -311,6 +311,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
             prior_seed = seed if config.prior_per_seed else 0
             for agent in config.agents:
                 deps = tuple(prior_run_id(t.format(path=path), prior_seed) for t in AGENTS[agent])
+                own_env = setup.agent_env_kwargs(agent)
                 runs.append(
                     RunSpec(
                         run_id=f"{agent}-{path}-s{seed}",
@@ -322,11 +323,13 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         episodes=episodes,
                         deps=deps,
                         record_episodes=record,
-                        eval_tasks=with_env_kwargs(EVAL_TASKS[path], setup.env_kwargs()),
+                        eval_tasks=with_env_kwargs(
+                            EVAL_TASKS[path], {**setup.env_kwargs(), **own_env}
+                        ),
                         eval_episodes=budget.eval_episodes,
                         trace_episodes=budget.trace_episodes,
                         sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
-                        env_kwargs=setup.train_env_kwargs(PLANNING_ENVS[path]),
+                        env_kwargs={**setup.train_env_kwargs(PLANNING_ENVS[path]), **own_env},
                         validation=setup.validation(),
                     )
                 )

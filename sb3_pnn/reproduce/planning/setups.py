@@ -80,6 +80,9 @@ Factors:
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
   quantity it was trained on (off: every task observes the paper's [a_c, g]).
+* ``pnn_goal_obs``: with ``goal_obs``, PNN's planning runs observe the goal part too (off: PNN,
+  whose only prior is a path follower, observes the planning tasks as the paper states them;
+  the tasks' rules, the heading rule included, are the same for every learner).
 * ``goal_distance``: how far ahead along the route the goal lies (None: the target point).
 * ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
   a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
@@ -164,6 +167,7 @@ class TrainingSetup:
     spnn_prior_kl: float = 0.0
     pnn_prior_kl: float = 0.0
     goal_obs: bool = False
+    pnn_goal_obs: bool = True
     goal_distance: float | None = None
     heading_rule: str = "path"
     oa_layout: str = "avoidance"
@@ -265,6 +269,15 @@ class TrainingSetup:
         if self.heading_rule != "goal":  # eq. 21 as written: a_c of the path (the LOS course)
             kwargs["heading_rule"] = self.heading_rule
         return kwargs
+
+    def agent_env_kwargs(self, agent: str) -> dict[str, Any]:
+        """What one learner's planning runs add to :meth:`env_kwargs` (training and evaluation
+        alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only prior being
+        a path follower that reads the path part (the part is there for SPNN's avoidance
+        column)."""
+        if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
+            return {"goal_obs": False}
+        return {}
 
     def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
         """Keyword arguments of the training environment (start noise included); for
@@ -468,6 +481,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
+    "pnn_goal_obs": "PNN observes the goal part too",
     "goal_distance": "goal: route point ahead (m)",
     "heading_rule": "heading rule of the planning tasks reads",
     "oa_layout": "obstacles of the avoidance task",

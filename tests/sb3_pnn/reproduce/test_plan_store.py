@@ -126,3 +126,20 @@ def test_failures_are_recorded(tmp_path) -> None:
     )
     assert list((tmp_path / "runs").iterdir()) == []
     store.close()
+
+
+def test_pnn_goal_obs_off_drops_the_goal_part_for_pnn_alone() -> None:
+    """pnn_goal_obs=false: PNN's planning runs train and are evaluated without the goal part;
+    every other learner's runs, and the source columns, are unchanged."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changed = build_plan(
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pnn_goal_obs", False),))
+    )
+    for spec in changed:
+        if spec.agent == "pnn":
+            assert spec.env_kwargs["goal_obs"] is False
+            assert all(kw["goal_obs"] is False for _, _, kw in spec.eval_tasks)
+            assert "goal_obs" not in plain[spec.run_id].env_kwargs
+        else:
+            assert spec.env_kwargs == plain[spec.run_id].env_kwargs
+            assert spec.eval_tasks == plain[spec.run_id].eval_tasks
