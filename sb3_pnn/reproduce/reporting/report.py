@@ -104,8 +104,9 @@ def _per_seed(pairs: list[tuple[int, int]]) -> str:
 FAILURE_ENDS = ("off_path", "heading", "collision")
 
 
-def end_reasons() -> dict[str, str]:
-    """What each ``end_reason`` of the env means, with the numbers read from rov_envs."""
+def end_reasons(heading_rule: str = "goal") -> dict[str, str]:
+    """What each ``end_reason`` of the env means, with the numbers read from rov_envs;
+    ``heading_rule`` is what the planning tasks' heading failure reads (the set-up's)."""
     from rov_envs.sim.config import TARGET_RADIUS, TIME_LIMIT_FACTOR, U_REF
     from rov_envs.sim.rewards import COLLISION_DISTANCE, END_REASONS, HALF_PI
     from rov_envs.sim.tasks import task_of_env
@@ -117,8 +118,13 @@ def end_reasons() -> dict[str, str]:
     text = {
         "success": f"reached the target (within {TARGET_RADIUS:g} m of it, or past the path's end)",
         "collision": f"came within {COLLISION_DISTANCE:g} m of an obstacle's surface",
-        "heading": "the heading deviation |a_c| from the path direction reached "
-        f"{math.degrees(HALF_PI):g} deg (it turned away from the path)",
+        "heading": (
+            f"the heading deviation from the goal's bearing reached {math.degrees(HALF_PI):g} "
+            "deg (it turned away from where the route goes)"
+            if heading_rule == "goal"
+            else f"the heading deviation |a_c| from the path direction reached "
+            f"{math.degrees(HALF_PI):g} deg (it turned away from the path)"
+        ),
         "off_path": f"the distance from the path |g| reached d_L ({d_l})",
         "time_limit": f"none of these within {TIME_LIMIT_FACTOR:g} x the path's arc length at "
         f"{U_REF:g} m/s (truncated)",
@@ -126,13 +132,14 @@ def end_reasons() -> dict[str, str]:
     return {reason: text[reason] for reason in END_REASONS if reason != "none"}
 
 
-def end_reasons_text() -> str:
+def end_reasons_text(heading_rule: str = "goal") -> str:
     """One line explaining the end reasons in the report's tables."""
     from rov_envs.sim.rewards import FAILURE_REWARD
 
+    meanings = end_reasons(heading_rule).items()
     return (
         "how episodes end (the 'ended by' columns): "
-        + "; ".join(f"`{reason}`: {meaning}" for reason, meaning in end_reasons().items())
+        + "; ".join(f"`{reason}`: {meaning}" for reason, meaning in meanings)
         + f". {', '.join(FAILURE_ENDS)} are the failures of eq. 21 ({FAILURE_REWARD:+g})"
     )
 
@@ -562,7 +569,7 @@ def _setup_lines(
         "and this report comes on top (printed by the command)",
         f"- machine: {machine()}",
         "- versions: " + ", ".join(f"{k} {v}" for k, v in versions().items()),
-        f"- {end_reasons_text()}",
+        f"- {end_reasons_text(config.setup.heading_rule)}",
         "",
     ]
 

@@ -91,3 +91,10 @@ def test_verdicts_do_not_call_seed_noise_a_difference() -> None:
         return rate, (lo, hi)
 
     assert "intervals overlap" in _compare(seed_aware(a), seed_aware(b))
+
+
+def test_the_heading_end_is_explained_by_the_set_ups_heading_rule() -> None:
+    from sb3_pnn.reproduce.reporting.report import end_reasons
+
+    assert "goal's bearing" in end_reasons("goal")["heading"]
+    assert "path direction" in end_reasons("path")["heading"]
