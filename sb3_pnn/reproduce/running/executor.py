@@ -30,7 +30,7 @@ from typing import Any
 
 from sb3_pnn.reproduce.planning.plan import RunSpec
 from sb3_pnn.reproduce.running.store import RunStore
-from sb3_pnn.reproduce.running.worker_init import init_worker
+from sb3_pnn.reproduce.running.worker_init import init_worker, run_manifest
 
 WorkFn = Callable[[RunSpec, Path, dict[str, Path]], dict[str, Any]]
 
@@ -83,15 +83,7 @@ def run_one(work: WorkFn, spec_data: dict[str, Any], out: str) -> tuple[str, str
         tmp = store.begin(spec)
         deps = {dep: store.run_dir(dep) for dep in spec.deps}
         extra = work(spec, tmp, deps)
-        manifest = {
-            **extra,
-            "seed": spec.seed,
-            "started": started,
-            "finished": time.time(),
-            "wall_s": time.time() - started,
-            "cpu_s": time.process_time() - cpu_started,
-            "pid": os.getpid(),
-        }
+        manifest = run_manifest(extra, spec.seed, started, cpu_started)
         committed = store.commit(spec, tmp, manifest)
         return spec.run_id, "done" if committed else "kept_existing", ""
     except BaseException:  # noqa: BLE001 - a failed run must not stop the study

@@ -27,7 +27,7 @@ from typing import Any
 
 from sb3_pnn.reproduce.planning.plan import RunSpec
 from sb3_pnn.reproduce.running.store import RunStore
-from sb3_pnn.reproduce.running.worker_init import init_worker
+from sb3_pnn.reproduce.running.worker_init import init_worker, run_manifest
 
 #: The Ray release this package is tested with (``pip install sb3-pnn[ray]`` pins it).
 RAY_VERSION = "2.60.0"
@@ -87,13 +87,7 @@ def run_remotely(
         except BaseException:  # noqa: BLE001 - reported to the driver, which records it
             return traceback.format_exc(), {}, {}
         manifest = {
-            **extra,
-            "seed": spec.seed,
-            "started": started,
-            "finished": time.time(),
-            "wall_s": time.time() - started,
-            "cpu_s": time.process_time() - cpu_started,
-            "pid": os.getpid(),
+            **run_manifest(extra, spec.seed, started, cpu_started),
             "host": socket.gethostname(),
         }
         return "", _files(out), manifest
