@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 import torch as th
 
@@ -35,6 +36,9 @@ def main() -> None:
     args = parser.parse_args()
     if not (args.straight or args.sine) or args.episodes < 1 or args.seed < 0:
         parser.error("give at least one column, --episodes >= 1 and --seed >= 0")
+    missing = [c for c in args.straight + args.sine if not Path(c).is_file()]
+    if missing:
+        parser.error(f"no such column file: {', '.join(missing)} (expected model.zip files)")
     th.set_num_threads(1)
     for path, columns in (("straight", args.straight), ("sine", args.sine)):
         for column in columns:

@@ -47,3 +47,24 @@ def batch(space: spaces.Dict, n: int, seed: int = 0) -> dict[str, np.ndarray]:
     space.seed(seed)
     samples = [space.sample() for _ in range(n)]
     return {k: np.stack([s[k] for s in samples]) for k in space.spaces}
+
+
+#: Nearest-obstacle distances (m) of the rows that :func:`near_far_batch` builds: with SPNN's
+#: d_th = 12.5 m the gate sees far, near, far, near, near.
+NEAR_DISTANCES = np.array([13.0, 12.0, 24.0, 0.5, 3.0])
+
+
+def near_far_batch(space: spaces.Dict, seed: int = 3) -> dict[str, np.ndarray]:
+    """A batch whose row i has one sonar sector at NEAR_DISTANCES[i] and the rest clear."""
+    obs = batch(space, len(NEAR_DISTANCES), seed=seed)
+    sonar = np.ones_like(obs["sonar"])
+    rows = np.arange(len(NEAR_DISTANCES))
+    sonar[rows, (rows * 2) % 9] = NEAR_DISTANCES / SONAR_RANGE
+    obs["sonar"] = sonar.astype(np.float32)
+    return obs
+
+
+def obs_tensor(policy, obs: dict[str, np.ndarray], keys=None):
+    """``obs`` (or only its ``keys``) as the policy's tensors."""
+    part = obs if keys is None else {k: obs[k] for k in keys}
+    return policy.obs_to_tensor(part)[0]

@@ -7,16 +7,18 @@ saved with the model; beta = 0 takes the plain actor pass.
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 import torch as th
 import torch.nn.functional as F
-from progressive_helpers import SONAR_RANGE, batch, toy_model
+from progressive_helpers import (
+    NEAR_DISTANCES,
+    near_far_batch,
+    obs_tensor,
+    toy_model,
+)
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.dsac.dsac import discrete_sac_losses
-
-NEAR_DISTANCES = np.array([13.0, 12.0, 24.0, 0.5, 3.0])  # d_th 12.5: far, near, far, near, near
 
 
 def _spnn(paths, **kwargs):
@@ -25,33 +27,20 @@ def _spnn(paths, **kwargs):
     return toy_model(SelectivePolicy, kw)
 
 
-def _obs(space):
-    obs = batch(space, len(NEAR_DISTANCES), seed=3)
-    sonar = np.ones_like(obs["sonar"])
-    rows = np.arange(len(NEAR_DISTANCES))
-    sonar[rows, (rows * 2) % 9] = NEAR_DISTANCES / SONAR_RANGE
-    obs["sonar"] = sonar.astype(np.float32)
-    return obs
-
-
-def _tensor(policy, obs, keys=None):
-    return policy.obs_to_tensor(obs if keys is None else {k: obs[k] for k in keys})[0]
-
-
 def test_reference_is_the_selected_priors_policy(priors):
     model = _spnn(priors, start_as_prior=False)
     policy = model.policy
     pf = DiscreteSAC.load(priors["pf_dsac"], device="cpu").policy
     oa = DiscreteSAC.load(priors["oa_dsac"], device="cpu").policy
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     near = th.as_tensor(NEAR_DISTANCES <= 12.5)
-    logits, reference = policy.actor.logits_and_prior_log_probs(_tensor(policy, obs))
+    logits, reference = policy.actor.logits_and_prior_log_probs(obs_tensor(policy, obs))
     with th.no_grad():
-        assert th.equal(logits, policy.actor(_tensor(policy, obs)))
+        assert th.equal(logits, policy.actor(obs_tensor(policy, obs)))
         expected = th.where(
             near[:, None],
-            F.log_softmax(oa.actor(_tensor(oa, obs)), dim=1),
-            F.log_softmax(pf.actor(_tensor(pf, obs, ("path",))), dim=1),
+            F.log_softmax(oa.actor(obs_tensor(oa, obs)), dim=1),
+            F.log_softmax(pf.actor(obs_tensor(pf, obs, ("path",))), dim=1),
         )
     assert th.allclose(reference, expected, atol=1e-6)
     assert logits.requires_grad and not reference.requires_grad
@@ -60,10 +49,10 @@ def test_reference_is_the_selected_priors_policy(priors):
 def test_pnn_reference_is_its_priors_policy(priors):
     model = toy_model(ProgressivePolicy, dict(priors=[priors["pf_dsac"]], net_arch=[16, 16]))
     pf = DiscreteSAC.load(priors["pf_dsac"], device="cpu").policy
-    obs = _obs(model.observation_space)
-    _, reference = model.policy.actor.logits_and_prior_log_probs(_tensor(model.policy, obs))
+    obs = near_far_batch(model.observation_space)
+    _, reference = model.policy.actor.logits_and_prior_log_probs(obs_tensor(model.policy, obs))
     with th.no_grad():
-        expected = F.log_softmax(pf.actor(_tensor(pf, obs, ("path",))), dim=1)
+        expected = F.log_softmax(pf.actor(obs_tensor(pf, obs, ("path",))), dim=1)
     assert th.allclose(reference, expected, atol=1e-6)
 
 
@@ -87,7 +76,7 @@ def test_the_term_is_beta_times_the_kl_divergence():
 def _kl_to_reference(model, obs):
     policy = model.policy
     with th.no_grad():
-        logits, reference = policy.actor.logits_and_prior_log_probs(_tensor(policy, obs))
+        logits, reference = policy.actor.logits_and_prior_log_probs(obs_tensor(policy, obs))
         log_pi = F.log_softmax(logits, dim=1)
         return float((log_pi.exp() * (log_pi - reference)).sum(dim=1).mean())
 
@@ -95,7 +84,7 @@ def _kl_to_reference(model, obs):
 def test_it_pulls_the_policy_toward_the_priors(priors):
     """The toy task pays for action 2 only; the priors do not prefer it. A strong KL term keeps
     the trained policy closer to the priors than the same run without it."""
-    obs = _obs(_spnn(priors).observation_space)
+    obs = near_far_batch(_spnn(priors).observation_space)
     kls = {}
     for beta in (0.0, 10.0):
         model = _spnn(priors, start_as_prior=True, prior_kl=beta)

@@ -7,15 +7,17 @@ network learns (the own output layer leaves zero), survives save/load, and bad u
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 import torch as th
-from progressive_helpers import SONAR_RANGE, batch, toy_model
+from progressive_helpers import (
+    NEAR_DISTANCES,
+    near_far_batch,
+    obs_tensor,
+    toy_model,
+)
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet
-
-NEAR_DISTANCES = np.array([13.0, 12.0, 24.0, 0.5, 3.0])  # d_th 12.5: far, near, far, near, near
 
 
 def _prior(path):
@@ -34,29 +36,15 @@ def _spnn(paths, **kwargs):
     return toy_model(SelectivePolicy, kw)
 
 
-def _obs(space, seed=3):
-    obs = batch(space, len(NEAR_DISTANCES), seed=seed)
-    sonar = np.ones_like(obs["sonar"])
-    rows = np.arange(len(NEAR_DISTANCES))
-    sonar[rows, (rows * 2) % 9] = NEAR_DISTANCES / SONAR_RANGE
-    obs["sonar"] = sonar.astype(np.float32)
-    return obs
-
-
-def _tensor(policy, obs, keys=None):
-    part = obs if keys is None else {k: obs[k] for k in keys}
-    return policy.obs_to_tensor(part)[0]
-
-
 def test_pnn_starts_with_the_priors_logits_and_q_values(priors):
     model = _pnn(priors, lateral_scale_init=0.0)  # ours: hidden laterals start at 0
     prior = _prior(priors["pf_dsac"])
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     with th.no_grad():
-        logits = model.policy.actor(_tensor(model.policy, obs))
-        q_values = model.policy.critic(_tensor(model.policy, obs))
-        prior_logits = prior.actor(_tensor(prior, obs, ("path",)))
-        prior_q = prior.critic(_tensor(prior, obs, ("path",)))
+        logits = model.policy.actor(obs_tensor(model.policy, obs))
+        q_values = model.policy.critic(obs_tensor(model.policy, obs))
+        prior_logits = prior.actor(obs_tensor(prior, obs, ("path",)))
+        prior_q = prior.critic(obs_tensor(prior, obs, ("path",)))
     assert th.allclose(logits, prior_logits, atol=1e-6)
     for q, q_prior in zip(q_values, prior_q, strict=True):
         assert th.allclose(q, q_prior, atol=1e-6)
@@ -67,10 +55,10 @@ def test_pnn_starts_with_the_priors_logits_and_q_values(priors):
 def test_without_it_the_new_column_starts_elsewhere(priors):
     model = _pnn(priors, start_as_prior=False)
     prior = _prior(priors["pf_dsac"])
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     with th.no_grad():
-        logits = model.policy.actor(_tensor(model.policy, obs))
-        prior_logits = prior.actor(_tensor(prior, obs, ("path",)))
+        logits = model.policy.actor(obs_tensor(model.policy, obs))
+        prior_logits = prior.actor(obs_tensor(prior, obs, ("path",)))
     assert not th.allclose(logits, prior_logits, atol=1e-3)
 
 
@@ -78,13 +66,13 @@ def test_spnn_starts_with_the_selected_priors_output_per_sample(priors):
     model = _spnn(priors)
     policy = model.policy
     pf, oa = _prior(priors["pf_dsac"]), _prior(priors["oa_dsac"])
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     near = th.as_tensor(NEAR_DISTANCES <= 12.5)
     assert th.equal(policy.gate_weights(obs)[:, 1], near.float())
     with th.no_grad():
-        logits = policy.actor(_tensor(policy, obs))
-        q_values = policy.critic(_tensor(policy, obs))
-        pf_in, oa_in = _tensor(pf, obs, ("path",)), _tensor(oa, obs)
+        logits = policy.actor(obs_tensor(policy, obs))
+        q_values = policy.critic(obs_tensor(policy, obs))
+        pf_in, oa_in = obs_tensor(pf, obs, ("path",)), obs_tensor(oa, obs)
         expected = th.where(near[:, None], oa.actor(oa_in), pf.actor(pf_in))
         expected_q = [
             th.where(near[:, None], q_oa, q_pf)
@@ -102,14 +90,14 @@ def test_it_learns_from_there_and_survives_save_load(priors, tmp_path):
     model.learn(60)
     assert net.layers[-1].weight.abs().sum() > 0  # the own output layer left zero
     assert all(th.equal(v, net.priors.state_dict()[k]) for k, v in frozen.items())
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     model.save(tmp_path / "pnn.zip")
     loaded = DiscreteSAC.load(tmp_path / "pnn.zip", device="cpu")
     assert loaded.policy.start_as_prior is True
     with th.no_grad():
         assert th.equal(
-            loaded.policy.actor(_tensor(loaded.policy, obs)),
-            model.policy.actor(_tensor(model.policy, obs)),
+            loaded.policy.actor(obs_tensor(loaded.policy, obs)),
+            model.policy.actor(obs_tensor(model.policy, obs)),
         )
 
 
@@ -117,11 +105,11 @@ def test_critics_without_priors_start_at_random_and_the_actor_as_the_prior(prior
     model = _pnn(priors, critic_priors=False)
     assert all(len(q.priors) == 0 for q in model.policy.critic.q_networks)
     prior = _prior(priors["pf_dsac"])
-    obs = _obs(model.observation_space)
+    obs = near_far_batch(model.observation_space)
     with th.no_grad():
         assert th.allclose(
-            model.policy.actor(_tensor(model.policy, obs)),
-            prior.actor(_tensor(prior, obs, ("path",))),
+            model.policy.actor(obs_tensor(model.policy, obs)),
+            prior.actor(obs_tensor(prior, obs, ("path",))),
             atol=1e-6,
         )
 
