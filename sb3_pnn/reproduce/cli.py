@@ -3,7 +3,8 @@
 Usage::
 
     python -m sb3_pnn.reproduce [--quick] [--seeds N] [--jobs J] [--out DIR] [--episodes E]
-                                [--eval-episodes N] [--prior-per-seed] [--no-progress]
+                                [--eval-episodes N] [--agents A,B] [--prior-per-seed]
+                                [--no-progress]
                                 [--setup {ours,paper}] [--set FACTOR=VALUE ...]
     python -m sb3_pnn.reproduce --ablation ...   (see :mod:`.ablation_cli`)
 
@@ -25,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from sb3_pnn.common.checks import positive_int
-from sb3_pnn.reproduce.planning.plan import BUDGETS, StudyConfig, build_plan
+from sb3_pnn.reproduce.planning.plan import AGENTS, BUDGETS, StudyConfig, build_plan
 from sb3_pnn.reproduce.planning.setups import SETUPS, parse_setup_changes
 from sb3_pnn.reproduce.running.executor import add_executor_arguments, pool_from_arguments
 from sb3_pnn.reproduce.running.store import (
@@ -90,6 +91,12 @@ def make_parser() -> argparse.ArgumentParser:
         help="evaluation episodes per policy and task",
     )
     parser.add_argument(
+        "--agents",
+        default=",".join(AGENTS),
+        help=f"comma list of the learners to train (default all: {','.join(AGENTS)}); the "
+        "source columns they need and both PID baselines always run",
+    )
+    parser.add_argument(
         "--prior-per-seed",
         action="store_true",
         help="train one set of source columns per seed (default: one shared set)",
@@ -136,6 +143,7 @@ def config_from_args(args: argparse.Namespace) -> StudyConfig:
         episodes=args.episodes,
         eval_episodes=args.eval_episodes,
         prior_per_seed=args.prior_per_seed,
+        agents=tuple(a.strip() for a in args.agents.split(",") if a.strip()),
         setup_name=args.setup,
         setup_changes=tuple(parse_setup_changes(args.set).items()),
     )

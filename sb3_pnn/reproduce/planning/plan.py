@@ -155,6 +155,11 @@ class StudyConfig:
             raise ValueError(
                 f"setup {self.setup_name!r} is unknown; expected one of {sorted(SETUPS)}"
             )
+        if not self.agents or len(set(self.agents)) != len(self.agents):
+            raise ValueError(
+                f"agents={list(self.agents)!r} is not allowed: expected distinct agents, at least "
+                f"one of {list(AGENTS)}"
+            )
         for agent in self.agents:
             if agent not in AGENTS:
                 raise ValueError(f"agent {agent!r} is unknown; expected one of {sorted(AGENTS)}")

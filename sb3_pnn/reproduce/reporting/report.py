@@ -546,7 +546,9 @@ def _setup_lines(
         "## Set-up",
         "",
         f"- budget: `{config.budget_name}`; seeds: {config.seeds} (training seeds {seeds}); "
-        f"priors: {prior_text}",
+        f"priors: {prior_text}; learners: "
+        + ", ".join(AGENT_LABELS[a] for a in config.agents)
+        + ("" if len(config.agents) == len(AGENTS) else " (`--agents`: the others not trained)"),
         f"- training episodes: priors {budget.prior_episodes}; agents on the planning tasks "
         f"{budget.transfer_episodes} (paper: about 300 straight / 400 sine)",
         f"- evaluation: {budget.eval_episodes} episodes per policy and task, seeds 10000.., "

@@ -32,7 +32,9 @@ from sb3_pnn.reproduce.running.work import build_model
      (["--set", "batch_size=12.5"], "expected a value like batch_size=256"),
      (["--set", "prior_batch_size=-1"], "prior_batch_size=-1 is not allowed"),
      (["--set", "control_period=0"], "control_period=0.0 is not allowed"),
-     (["--set", "control_period=5"], "control_period=5.0 is not allowed")],
+     (["--set", "control_period=5"], "control_period=5.0 is not allowed"),
+     (["--agents", "spnn,dqn"], "agent 'dqn' is unknown; expected one of"),
+     (["--agents", "spnn,spnn"], "expected distinct agents")],
 )  # fmt: skip
 def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
@@ -142,6 +144,21 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
               work=fake_work)  # fmt: skip
     assert rc == 2
     assert "never overwritten" in capsys.readouterr().err
+
+
+def test_agents_trains_only_the_learners_asked_for(tmp_path, capsys) -> None:
+    out = tmp_path / "study"
+    argv = ["--tiny", "--seeds", "1", "--eval-episodes", "10", "--jobs", "1", "--no-progress"]
+    assert main([*argv, "--agents", "spnn", "--out", str(out)], work=fake_work) == 0
+    runs = {p.name for p in (out / "runs").iterdir()}
+    # SPNN's two source columns per path and both PID baselines, no other learner
+    assert {r for r in runs if "-s0" in r and not r.startswith("prior")} == {
+        "spnn-straight-s0",
+        "spnn-sine-s0",
+    }
+    assert {"prior-oa-s0", "prior-pf_sine-s0", "adaptive_pid-straight"} <= runs
+    report = (out / "report.md").read_text()
+    assert "learners: SPNN (`--agents`: the others not trained)" in report
 
 
 @pytest.mark.slow
