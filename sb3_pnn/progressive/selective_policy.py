@@ -56,6 +56,9 @@ PAPER_OWN_WEIGHT = 0.5
 #: used with ``start_as_prior=True``: chosen on validation episodes (docs/ablation).
 DEFAULT_SIGMA = 1.0
 DEFAULT_OWN_WEIGHT = 1.0
+#: The recommended set-up's weight beta of KL(pi || the gate-selected prior) in the actor's loss
+#: (the paper has none: 0), chosen on validation episodes (docs/ablation, section 9).
+DEFAULT_PRIOR_KL = 1.0
 
 
 def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
@@ -92,7 +95,7 @@ class SelectivePolicy(ProgressivePolicy):
     :param temperature: Temperature (metres) of the soft gate
     :param gate_hidden: Hidden width of the learned gate
     :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
-        (see :class:`ProgressivePolicy`; 0: off, the paper)
+        (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
     """
 
     def __init__(
@@ -124,7 +127,7 @@ class SelectivePolicy(ProgressivePolicy):
         critic_priors: bool = True,
         start_as_prior: bool = True,
         init_from_prior: bool = False,
-        prior_kl: float = 0.0,
+        prior_kl: float = DEFAULT_PRIOR_KL,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")

@@ -75,7 +75,9 @@ Factors:
 * ``spnn_prior_kl``, ``pnn_prior_kl``: weight beta of KL(pi || pi_0) in the actor's loss, pi_0
   the frozen priors' own policy (the SPNN's gate-selected prior; ``prior_kl`` of
   :class:`sb3_pnn.ProgressivePolicy`): the new policy stays near what its priors do where
-  reward does not pay for more (not in the paper: 0). Only SPNN / PNN runs read them.
+  reward does not pay for more (not in the paper: 0; ours: 1 for SPNN, which kept the priors'
+  route keeping and avoidance, 0 for PNN, whose single path-following prior knows no
+  avoidance). Only SPNN / PNN runs read them.
 * ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
@@ -112,7 +114,12 @@ from rov_envs.physics.params import VEHICLES
 from sb3_pnn.common.callbacks import VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
-from sb3_pnn.progressive.selective_policy import PAPER_D_TH, PAPER_OWN_WEIGHT, PAPER_SIGMA
+from sb3_pnn.progressive.selective_policy import (
+    DEFAULT_PRIOR_KL,
+    PAPER_D_TH,
+    PAPER_OWN_WEIGHT,
+    PAPER_SIGMA,
+)
 
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
 #: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
@@ -445,6 +452,7 @@ OURS = TrainingSetup(
     spnn_start_as_prior=True,
     spnn_sigma=1.0,
     spnn_own_weight=1.0,
+    spnn_prior_kl=DEFAULT_PRIOR_KL,
     goal_obs=True,
     goal_distance=25.0,
     heading_rule="goal",

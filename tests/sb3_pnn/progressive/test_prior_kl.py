@@ -19,6 +19,7 @@ from progressive_helpers import (
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.dsac.dsac import discrete_sac_losses
+from sb3_pnn.progressive.selective_policy import DEFAULT_PRIOR_KL
 
 
 def _spnn(paths, **kwargs):
@@ -94,9 +95,10 @@ def test_it_pulls_the_policy_toward_the_priors(priors):
 
 
 def test_zero_takes_the_plain_path_and_the_weight_is_saved(priors, tmp_path, monkeypatch):
-    """beta = 0 (the default) trains through the plain actor pass: the reference policy is
+    """beta = 0 (the paper) trains through the plain actor pass: the reference policy is
     never computed, so the updates are the same operations as before the option existed."""
-    model = _spnn(priors)
+    assert _spnn(priors).policy.prior_kl == DEFAULT_PRIOR_KL == 1.0  # the recommended set-up
+    model = _spnn(priors, prior_kl=0.0)
     assert model.policy.prior_kl == 0.0
 
     def refuse(*args, **kwargs):

@@ -1,0 +1,121 @@
+"""A diagnostic: how often a study's SPNN acts as its gate-selected frozen prior would.
+
+Eq. 15's gate feeds the new column the path-following prior while the nearest obstacle is
+beyond d_th and the obstacle-avoidance prior within it. Per step of deterministic episodes this
+compares SPNN's greedy action with the greedy action of that selected prior's own policy (the
+reference of ``prior_kl``), by gate regime, and counts the actions each takes (Table 1's order:
+Turn left 1, Turn left 2, Go straight, Turn right 1, Turn right 2). Episodes run on the
+validation seeds (20000+, never the study's evaluation seeds 10000+) with the study's env
+keywords; nothing is chosen here.
+
+Usage: python -m sb3_pnn.reproduce.tools.prior_agreement STUDY --path straight
+    [--env rov_envs/PlanningStraightDense-v0] [--episodes 10] [--seeds 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import Counter
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import torch as th
+
+import rov_envs  # noqa: F401  (registers the tasks)
+from rov_envs.physics.thrusters import N_ACTIONS
+from sb3_pnn import DiscreteSAC
+from sb3_pnn.common.callbacks import VALIDATION_SEED
+
+REGIMES = ("path following", "avoidance")
+
+
+def step_counts(
+    model: DiscreteSAC, env: gym.Env, episodes: int, seed: int
+) -> tuple[Counter, Counter]:
+    """Per (regime, what) step counts over ``episodes`` episodes, and how the episodes ended.
+
+    ``what`` is "steps", "agree", ("own", a) or ("prior", a)."""
+    policy = model.policy
+    d_th = float(policy.actor.gate.d_th)
+    sonar_range = float(env.unwrapped.sonar_range)
+    counts: Counter = Counter()
+    ends: Counter = Counter()
+    for episode in range(episodes):
+        obs, info = env.reset(seed=seed + episode)
+        done = False
+        while not done:
+            batch = {k: th.as_tensor(np.asarray(v)[None], dtype=th.float32) for k, v in obs.items()}
+            with th.no_grad():
+                logits, prior_log_probs = policy.actor.logits_and_prior_log_probs(batch)
+            own, prior = int(logits.argmax()), int(prior_log_probs.argmax())
+            regime = REGIMES[float(np.min(obs["sonar"])) * sonar_range <= d_th]
+            counts[(regime, "steps")] += 1
+            counts[(regime, "agree")] += own == prior
+            counts[(regime, ("own", own))] += 1
+            counts[(regime, ("prior", prior))] += 1
+            obs, _, terminated, truncated, info = env.step(own)
+            done = terminated or truncated
+        ends[info.get("end_reason", "none")] += 1
+    return counts, ends
+
+
+def table(rows: list[tuple[int, Counter, Counter]]) -> list[str]:
+    """Markdown rows: per seed and regime, agreement and both action shares."""
+    lines = [
+        "| seed | regime | steps | agrees with the prior | SPNN's actions (shares) "
+        "| prior's actions | episodes ended by |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for seed, counts, ends in rows:
+        ended = ", ".join(f"{k} {v}" for k, v in ends.most_common())
+        for regime in REGIMES:
+            steps = counts[(regime, "steps")]
+            if not steps:
+                continue
+            own = " ".join(f"{counts[(regime, ('own', a))] / steps:.2f}" for a in range(N_ACTIONS))
+            prior = " ".join(
+                f"{counts[(regime, ('prior', a))] / steps:.2f}" for a in range(N_ACTIONS)
+            )
+            agree = counts[(regime, "agree")] / steps
+            lines.append(
+                f"| {seed} | {regime} | {steps} | {100 * agree:.0f} % | {own} | {prior} | {ended} |"
+            )
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("study", type=Path)
+    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
+    parser.add_argument("--env", default=None, help="task (default: the path's planning task)")
+    parser.add_argument("--episodes", type=int, default=10)
+    parser.add_argument("--seeds", type=int, default=3)
+    args = parser.parse_args(argv)
+    for name in ("episodes", "seeds"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name} {getattr(args, name)} is not allowed: expected an integer >= 1")
+    env_id = args.env or f"rov_envs/Planning{args.path.capitalize()}-v0"
+    if env_id not in gym.registry:
+        parser.error(f"--env {env_id!r} is not a registered task: expected an rov_envs/... id")
+    th.set_num_threads(1)
+    rows = []
+    for seed in range(args.seeds):
+        run = args.study / "runs" / f"spnn-{args.path}-s{seed}"
+        if not (run / "model.zip").exists():
+            parser.error(
+                f"{run / 'model.zip'} does not exist: expected a study folder with SPNN runs"
+            )
+        env_kwargs = json.loads((run / "eval.json").read_text())["original"]["env_kwargs"]
+        model = DiscreteSAC.load(run / "model.zip", device="cpu")
+        env = gym.make(env_id, **env_kwargs)
+        rows.append((seed, *step_counts(model, env, args.episodes, VALIDATION_SEED)))
+        env.close()
+    print(f"SPNN on {env_id}, {args.episodes} validation episodes per seed")
+    print("\n".join(table(rows)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
