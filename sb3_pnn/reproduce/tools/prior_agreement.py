@@ -2,11 +2,12 @@
 
 Eq. 15's gate feeds the new column the path-following prior while the nearest obstacle is
 beyond d_th and the obstacle-avoidance prior within it. Per step of deterministic episodes this
-compares SPNN's greedy action with the greedy action of that selected prior's own policy (the
-reference of ``prior_kl``), by gate regime, and counts the actions each takes (Table 1's order:
-Turn left 1, Turn left 2, Go straight, Turn right 1, Turn right 2). Episodes run on the
-validation seeds (20000+, never the study's evaluation seeds 10000+) with the study's env
-keywords; nothing is chosen here.
+compares SPNN's greedy action with the greedy action of the selected prior's own policy (the
+reference of ``prior_kl``), by gate regime (read from the policy's own gate, so soft and learned
+gates count by their leading prior), and counts the actions each takes (Table 1's order: Turn
+left 1, Turn left 2, Go straight, Turn right 1, Turn right 2). Episodes run on the validation
+seeds (20000+, never the study's evaluation seeds 10000+) with the study's env keywords;
+nothing is chosen here.
 
 Usage: python -m sb3_pnn.reproduce.tools.prior_agreement STUDY --path straight
     [--env rov_envs/PlanningStraightDense-v0] [--episodes 10] [--seeds 3]
@@ -38,8 +39,6 @@ def step_counts(
 
     ``what`` is "steps", "agree", ("own", a) or ("prior", a)."""
     policy = model.policy
-    d_th = float(policy.actor.gate.d_th)
-    sonar_range = float(env.unwrapped.sonar_range)
     counts: Counter = Counter()
     ends: Counter = Counter()
     for episode in range(episodes):
@@ -50,7 +49,8 @@ def step_counts(
             with th.no_grad():
                 logits, prior_log_probs = policy.actor.logits_and_prior_log_probs(batch)
             own, prior = int(logits.argmax()), int(prior_log_probs.argmax())
-            regime = REGIMES[float(np.min(obs["sonar"])) * sonar_range <= d_th]
+            # the prior the policy's own gate leads with (the hard gate: by distance vs d_th)
+            regime = REGIMES[int(policy.gate_weights(batch).argmax())]
             counts[(regime, "steps")] += 1
             counts[(regime, "agree")] += own == prior
             counts[(regime, ("own", own))] += 1
