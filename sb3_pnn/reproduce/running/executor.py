@@ -134,6 +134,11 @@ class LocalPool:
     def close(self) -> None:
         self._pool.shutdown(wait=True, cancel_futures=True)
 
+    def ended_in_flight(self, handles: list[Any]) -> list[Any]:
+        """After Ctrl-C and :meth:`close`: the runs in flight whose worker ended them (each
+        committed or recorded its run itself), so that the session counts them."""
+        return [h for h in handles if h.done() and not h.cancelled()]
+
 
 class _Schedule:
     """The state of one invocation: which runs are pending, running and finished."""
@@ -261,6 +266,10 @@ def execute(
             pool.close()
     except KeyboardInterrupt:  # the runs in flight have ended or been cancelled (docstring)
         schedule.summary.stopped = True
+        ended = getattr(pool, "ended_in_flight", None)
+        for handle in ended(list(schedule.running)) if ended is not None else []:
+            run_id = schedule.running.pop(handle)
+            schedule.settle(run_id, *pool.outcome(handle, schedule.by_id[run_id]))
     finally:
         schedule.bar.close()
     schedule.summary.wall_s = time.time() - start
