@@ -28,6 +28,7 @@ import rov_envs  # noqa: F401  (registers the tasks)
 from rov_envs.physics.thrusters import N_ACTIONS
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.common.callbacks import VALIDATION_SEED
+from sb3_pnn.common.checks import positive_int
 
 REGIMES = ("path following", "avoidance")
 
@@ -74,9 +75,9 @@ def table(rows: list[tuple[int, Counter, Counter]]) -> list[str]:
             steps = counts[(regime, "steps")]
             if not steps:
                 continue
-            own = " ".join(f"{counts[(regime, ('own', a))] / steps:.2f}" for a in range(N_ACTIONS))
-            prior = " ".join(
-                f"{counts[(regime, ('prior', a))] / steps:.2f}" for a in range(N_ACTIONS)
+            own, prior = (
+                " ".join(f"{counts[(regime, (who, a))] / steps:.2f}" for a in range(N_ACTIONS))
+                for who in ("own", "prior")
             )
             agree = counts[(regime, "agree")] / steps
             lines.append(
@@ -90,12 +91,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("study", type=Path)
     parser.add_argument("--path", choices=["straight", "sine"], default="straight")
     parser.add_argument("--env", default=None, help="task (default: the path's planning task)")
-    parser.add_argument("--episodes", type=int, default=10)
-    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--episodes", type=positive_int("--episodes"), default=10)
+    parser.add_argument("--seeds", type=positive_int("--seeds"), default=3)
     args = parser.parse_args(argv)
-    for name in ("episodes", "seeds"):
-        if getattr(args, name) < 1:
-            parser.error(f"--{name} {getattr(args, name)} is not allowed: expected an integer >= 1")
     env_id = args.env or f"rov_envs/Planning{args.path.capitalize()}-v0"
     if env_id not in gym.registry:
         parser.error(f"--env {env_id!r} is not a registered task: expected an rov_envs/... id")
