@@ -7,7 +7,11 @@ knows (from the commit that made them) states it with ``--made-with-tasks-revisi
 then copied into the new folder only when
 
 * its stored spec equals, field for field, the spec the new study plans under that run id, and
-* its stored hash is the legacy hash of that spec (or already today's hash),
+* its stored hash is the legacy hash of that spec (or already today's hash), and
+* every run it depends on (its prior columns, ``RunSpec.deps``) passes the same two checks in
+  the old folder: a run's hash covers its own spec, which names its priors by run id only, so
+  a transfer run trained on a prior that the new study plans differently (another
+  ``oa_layout``, say) would otherwise be adopted although its prior is retrained,
 
 and the stated revision is today's. Its manifest keeps the legacy hash and the stated revision
 under ``adopted``, so report readers can see which runs were adopted. Nothing is retrained or
@@ -54,6 +58,17 @@ def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
     return None
 
 
+def _why_not_deps(old_store: RunStore, spec: RunSpec, planned: dict[str, RunSpec]) -> str | None:
+    """Why ``spec``'s old run was trained on other priors than the new study plans, or None."""
+    for dep in spec.deps:
+        if dep not in planned:
+            return f"its prior {dep} is not in the new study's plan"
+        why = _why_not(old_store.manifest(dep), planned[dep])
+        if why is not None:
+            return f"its prior {dep} would not be adopted ({why})"
+    return None
+
+
 def check_revision(revision: int) -> None:
     """ValueError unless ``revision`` is today's ``TASKS_REVISION``."""
     from rov_envs.sim.tasks import TASKS_REVISION
@@ -76,12 +91,13 @@ def adopt_runs(
     old_store = RunStore(old_out)
     adopted: list[str] = []
     skipped: dict[str, str] = {}
+    planned = {spec.run_id: spec for spec in plan}
     for spec in plan:
         if store.run_dir(spec.run_id).exists():
             skipped[spec.run_id] = "already in the new folder"
             continue
         old = old_store.manifest(spec.run_id)
-        why = _why_not(old, spec)
+        why = _why_not(old, spec) or _why_not_deps(old_store, spec, planned)
         if why is not None:
             skipped[spec.run_id] = why
             continue
