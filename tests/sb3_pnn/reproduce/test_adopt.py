@@ -70,13 +70,16 @@ def test_runs_whose_prior_is_planned_differently_are_not_adopted(tmp_path) -> No
     """A transfer run's hash names its priors by run id only: with the avoidance column's task
     changed, the SPNN runs (which read it) must be retrained with it, the others not."""
     from rov_envs.sim.tasks import TASKS_REVISION
+    from sb3_pnn.reproduce.planning.setups import OURS
+
+    other = "avoidance" if OURS.oa_layout == "scatter" else "scatter"
 
     old_plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
     _old_study(tmp_path / "old", old_plan, lambda spec: spec.config_hash())
     new = RunStore(tmp_path / "new")
     new.open()
     plan = build_plan(
-        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_layout", "scatter"),))
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_layout", other),))
     )
     adopted, skipped = adopt_runs(tmp_path / "old", new, plan, TASKS_REVISION)
     readers = {s.run_id for s in plan if "prior-oa-s0" in s.deps}
