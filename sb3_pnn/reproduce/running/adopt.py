@@ -58,14 +58,15 @@ def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
     return None
 
 
-def _why_not_deps(old_store: RunStore, spec: RunSpec, planned: dict[str, RunSpec]) -> str | None:
-    """Why ``spec``'s old run was trained on other priors than the new study plans, or None."""
+def _why_not_deps(spec: RunSpec, verdicts: dict[str, str | None]) -> str | None:
+    """Why ``spec``'s old run was trained on other priors than the new study plans, or None;
+    ``verdicts`` holds :func:`_why_not` of every run planned before it (its priors included:
+    the plan lists a run's priors first)."""
     for dep in spec.deps:
-        if dep not in planned:
+        if dep not in verdicts:
             return f"its prior {dep} is not in the new study's plan"
-        why = _why_not(old_store.manifest(dep), planned[dep])
-        if why is not None:
-            return f"its prior {dep} would not be adopted ({why})"
+        if verdicts[dep] is not None:
+            return f"its prior {dep} would not be adopted ({verdicts[dep]})"
     return None
 
 
@@ -91,13 +92,14 @@ def adopt_runs(
     old_store = RunStore(old_out)
     adopted: list[str] = []
     skipped: dict[str, str] = {}
-    planned = {spec.run_id: spec for spec in plan}
+    verdicts: dict[str, str | None] = {}  # run id -> _why_not of its old run (read once)
     for spec in plan:
+        old = old_store.manifest(spec.run_id)
+        verdicts[spec.run_id] = _why_not(old, spec)
         if store.run_dir(spec.run_id).exists():
             skipped[spec.run_id] = "already in the new folder"
             continue
-        old = old_store.manifest(spec.run_id)
-        why = _why_not(old, spec) or _why_not_deps(old_store, spec, planned)
+        why = verdicts[spec.run_id] or _why_not_deps(spec, verdicts)
         if why is not None:
             skipped[spec.run_id] = why
             continue
