@@ -12,6 +12,7 @@ Evaluated as the study evaluates (50 episodes per task on seeds 10000+, the eval
 library's start noise); the environment keywords are those of the study's ``ours`` set-up.
 
 Usage: python bench/prior_switch.py --pf-straight P.zip --pf-sine P.zip --oa P.zip [--d-th 12.5]
+       [--seed 20000 --training-tasks-only]  (validation seeds, no new layout: to choose on)
        (the 5-seed study's priors: STUDY/runs/prior-{pf_straight,pf_sine,oa}-s0/model.zip)
 """
 
@@ -76,6 +77,12 @@ def main() -> None:
     parser.add_argument(
         "--seed", type=int, default=EVAL_SEED, help="first episode seed (study evaluation: 10000)"
     )
+    parser.add_argument(
+        "--training-tasks-only",
+        action="store_true",
+        help="only the planning tasks the agents train on, with and without their obstacles "
+        "(what a choice may be made on), not the new layouts",
+    )
     args = parser.parse_args()
     if not args.d_th > 0:
         parser.error(f"--d-th {args.d_th} is not allowed: expected a distance > 0 (m)")
@@ -84,6 +91,8 @@ def main() -> None:
     th.set_num_threads(1)
     env_kwargs = OURS.env_kwargs()
     oa = DiscreteSAC.load(args.oa, device="cpu")
+    if oa.observation_space["goal"].shape == (2,):  # a column that reads its offset (oa_offset_obs)
+        env_kwargs["goal_offset"] = True
     print(
         f"d_th {args.d_th} m; env keywords {env_kwargs}; {args.episodes} episodes per task "
         f"on seeds {args.seed}+"
@@ -91,6 +100,8 @@ def main() -> None:
     for path, prior in (("straight", args.pf_straight), ("sine", args.pf_sine)):
         pf = DiscreteSAC.load(prior, device="cpu")
         for label, env_id, extra in TASKS[path]:
+            if args.training_tasks_only and label.startswith("new"):
+                continue
             kwargs = {**env_kwargs, **extra}
             probe = gym.make(env_id, **kwargs)
             sonar_range = probe.unwrapped.sonar_range
@@ -109,6 +120,7 @@ def main() -> None:
             print(
                 f"{path:8} {label:30} success {result.success_rate:4.0%} [{low:.0%}, {high:.0%}]"
                 f"  mean |g| {result.mean_abs_cross_track:4.2f} m"
+                f", |a_c| {np.degrees(result.mean_abs_heading_error):4.1f} deg"
                 f"  avoidance prior in {np.mean(policy.oa_share):4.0%} of decisions"
                 f"  ({ends}; {time.time() - start:.0f} s)",
                 flush=True,

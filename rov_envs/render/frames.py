@@ -98,7 +98,7 @@ def render_topdown(
 ) -> np.ndarray:
     """An (H, width, 3) uint8 picture of the episode so far (see the module docstring)."""
     px, py = path_points(config)
-    d_L = config.task.d_L
+    d_L = config.d_L
     ys = [py.min() - d_L, py.max() + d_L, state[1]]
     if trajectory.size:
         ys += [trajectory[:, 1].min(), trajectory[:, 1].max()]

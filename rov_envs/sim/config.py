@@ -132,6 +132,11 @@ class EnvConfig:
       every task but ObstacleAvoidance).
     * ``goal_obs``: observe the "goal" part [heading deviation from the bearing to the goal /
       pi] (default: the task's; True for ObstacleAvoidance and the planning tasks).
+    * ``goal_offset``: the "goal" part also holds the signed distance from the path, g / d_L
+      (clipped to [-1, 1]): [heading deviation from the goal's bearing / pi, g / d_L] (default
+      False). An obstacle-avoidance column that reads it knows how far a detour has taken it
+      from its route, which a corridor (``corridor``) asks it to keep in mind; it still reads
+      no heading of the path.
     * ``goal_distance``: the goal of the "goal" part: D > 0 for the route point D m further
       along x than the closest one (the route continued past its end), default
       25; None for the target point itself.
@@ -140,6 +145,10 @@ class EnvConfig:
       the goal's bearing: the episode fails when the vehicle turns away from where the route
       goes, not when a detour takes it off the LOS course); default: ``"goal"`` for the
       planning tasks, ``heading_reference`` for the others.
+    * ``corridor``: the half-width d_L (m) of the corridor |g| < d_L around the path, in
+      [1, 100]: eq. 21's off-path failure, eq. 18/19's distance term and the path part's g / d_L
+      read it (default: the task's, 30 on the straight tasks and ObstacleAvoidance, 15 on the
+      sine tasks, as section 4.2.1 gives them).
     * ``layout``: obstacles drawn afresh each episode by a generator of
       :mod:`rov_envs.sim.layouts` instead of the task's own (``"scatter"``: a random field of
       random density and size around the route, for training on layouts beyond the paper's;
@@ -170,13 +179,20 @@ class EnvConfig:
     path_obs: bool | None = None
     goal_obs: bool | None = None
     goal_distance: float | None = None
+    goal_offset: bool = False
     heading_rule: str | None = None
+    corridor: float | None = None
     layout: str | None = None
 
     @property
     def layout_name(self) -> str:
         """The obstacle layout: ``layout`` when given, else the task's."""
         return self.layout or self.task.layout
+
+    @property
+    def d_L(self) -> float:
+        """The corridor half-width (m): ``corridor`` when given, else the task's."""
+        return self.task.d_L if self.corridor is None else self.corridor
 
     @property
     def dt(self) -> float:
@@ -293,7 +309,11 @@ def _check_path(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
         raise _bad("layout", layout, f"None or one of {sorted(LAYOUT_CODES)}")
     if layout is not None and obstacles is not None:
         raise _bad("layout", layout, "None when obstacles are given")
+    corridor = args.get("corridor")
+    if corridor is not None:
+        corridor = _in_range("corridor", corridor, 1.0, 100.0, "m, the half-width d_L")
     return {
+        "corridor": corridor,
         "layout": layout,
         "length": length,
         "amplitude": amplitude,
@@ -374,6 +394,7 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
         ),
         "path_obs": _boolean("path_obs", args.get("path_obs", task.path_obs)),
         "goal_obs": _boolean("goal_obs", args.get("goal_obs", task.goal_obs)),
+        "goal_offset": _boolean("goal_offset", args.get("goal_offset", DEFAULTS["goal_offset"])),
     }
     heading_rule = args.get("heading_rule", task.heading_rule or heading_reference)
     if not isinstance(heading_rule, str) or heading_rule not in HEADING_REFERENCES:
@@ -383,6 +404,8 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     if goal_distance is not None:
         goal_distance = _in_range("goal_distance", goal_distance, 1.0, 1000.0, "m")
     out["goal_distance"] = goal_distance
+    if out["goal_offset"] and not out["goal_obs"]:
+        raise _bad("goal_offset", True, "False when goal_obs is False (it extends the goal part)")
     if not (out["path_obs"] or out["goal_obs"]):
         raise _bad(
             "path_obs", False, "True when goal_obs is False (the observation needs a heading)"

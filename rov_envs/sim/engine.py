@@ -60,6 +60,9 @@ class RovBatch:
         c = self.config
         self.has_path = "path" in c.obs_parts
         self.has_goal = "goal" in c.obs_parts
+        #: columns of the path buffer that make the goal part: the goal's heading deviation,
+        #: then, with ``goal_offset``, g / d_L (rov_envs.sim.kernel's obs_path layout)
+        self.goal_columns = [2, 1] if c.goal_offset else [2]
         self.has_sonar = c.has_sonar
         self.has_motion = c.motion_obs
         self.continuous = c.continuous
@@ -214,7 +217,7 @@ class RovBatch:
         if self.has_path:
             parts["path"] = path[..., :2].copy()
         if self.has_goal:
-            parts["goal"] = path[..., 2:3].copy()
+            parts["goal"] = path[..., self.goal_columns]
         if self.has_sonar:
             parts["sonar"] = sonar.copy()
         if self.has_motion:

@@ -47,7 +47,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c = np.zeros(K.C_SIZE, dtype=np.float64)
     c[K.C_PATH] = config.task.path_kind
     c[K.C_REWARD] = config.task.reward_kind
-    c[K.C_DL] = config.task.d_L
+    c[K.C_DL] = config.d_L
     c[K.C_LENGTH] = config.length
     c[K.C_AMP] = config.amplitude
     c[K.C_WAVE] = config.wavelength

@@ -24,7 +24,7 @@ def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
     if "path" in config.obs_parts:
         parts["path"] = spaces.Box(-1.0, 1.0, (2,), np.float32)
     if "goal" in config.obs_parts:
-        parts["goal"] = spaces.Box(-1.0, 1.0, (1,), np.float32)
+        parts["goal"] = spaces.Box(-1.0, 1.0, (2 if config.goal_offset else 1,), np.float32)
     if config.has_sonar:
         parts["sonar"] = spaces.Box(0.0, 1.0, (config.sonar_sectors,), np.float32)
     if config.motion_obs:

@@ -241,9 +241,19 @@ class _Episodes:
             )
 
 
-#: Keyword arguments of a training env that describe its own task's layout: not carried over
-#: to another task by :func:`trained_env_kwargs`.
-LAYOUT_KWARGS = ("obstacles", "length", "amplitude", "wavelength", "max_episode_seconds")
+#: Keyword arguments of a training env that describe its own task's layout (its obstacles,
+#: obstacle generator, path and corridor): not carried over to another task by
+#: :func:`trained_env_kwargs` (an avoidance column trained among random fields is evaluated on
+#: the dense layout's obstacles, not on random fields).
+LAYOUT_KWARGS = (
+    "obstacles",
+    "layout",
+    "length",
+    "amplitude",
+    "wavelength",
+    "corridor",
+    "max_episode_seconds",
+)
 
 
 def trained_env_kwargs(policy: Any, env_id: str) -> dict[str, Any]:

@@ -64,10 +64,14 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "updates": ("step:1", "step:4"),
     "target_entropy_ratio": (0.2,),
     "oa_layout": ("scatter",),
+    "oa_corridor": (15.0,),
 }
 #: Factors with no cell of their own, each with why and where it is measured instead.
 _ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
 NOT_ABLATED: dict[str, str] = {
+    "prior_candidates": "an ablation cell trains one seed-0 column per source task; measured "
+    "with the study's own runs, its SPNN on columns chosen among three candidates "
+    "(docs/ablation/README.md, section 10)",
     "planning_layout": "beyond the paper's protocol (the agents train on other obstacles than "
     "the paper's tasks have): its runs are reported apart, as extra rows of Figure 20 "
     "(docs/results.md)",
@@ -297,10 +301,12 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     seed=seed,
                     episodes=budget.episodes[task],
                     deps=deps,
-                    eval_tasks=(("own", env_id, setup.env_kwargs()),),
+                    eval_tasks=(
+                        ("own", env_id, {**setup.env_kwargs(), **setup.agent_env_kwargs(agent)}),
+                    ),
                     eval_episodes=budget.eval_episodes,
                     sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
-                    env_kwargs=setup.train_env_kwargs(env_id),
+                    env_kwargs={**setup.train_env_kwargs(env_id), **setup.agent_env_kwargs(agent)},
                     validation=setup.validation(),
                 )
     plan = list(runs.values())

@@ -12,6 +12,9 @@ A study is a list of :class:`RunSpec` built by :func:`build_plan` from a :class:
   weights), PNN (two columns, eq. 13) and SPNN (three columns, eq. 15). Each ends by evaluating its
   final policy (see :mod:`.evaluate`).
 * ``baseline`` runs evaluate the PID and adaptive PID controllers on the same tasks.
+* ``select`` runs (with the set-up's ``prior_candidates`` k > 1): each source column is trained
+  k times, and a select run keeps the candidate that did best on validation episodes of its own
+  task; the transfer runs read that one.
 
 Training budgets are counted in EPISODES, as in the paper's Figures 10, 11 and 14.
 """
@@ -238,6 +241,35 @@ def prior_run_id(name: str, seed: int) -> str:
     return f"prior-{name}-s{seed}"
 
 
+def column_run_id(name: str, column_set: int, candidates: int) -> str:
+    """The run whose model.zip is source column ``name`` of column set ``column_set`` (0: the
+    shared set; seed s with ``prior_per_seed``): the prior run itself, or with k > 1 candidates
+    the select run that keeps the best of them."""
+    if candidates == 1:
+        return prior_run_id(name, column_set)
+    return f"prior-{name}-best{candidates}-s{column_set}"
+
+
+def candidate_seeds(column_set: int, candidates: int) -> range:
+    """The training seeds of the candidates of column set ``column_set``: k * set + j, j < k
+    (with one candidate: the set's own seed, as before candidates existed)."""
+    return range(candidates * column_set, candidates * (column_set + 1))
+
+
+def select_run(name: str, column_set: int, candidates: int) -> RunSpec:
+    """The run that keeps the best of a source column's candidates (see :mod:`.running.work`)."""
+    return RunSpec(
+        run_id=column_run_id(name, column_set, candidates),
+        kind="select",
+        agent="dsac",
+        path=None,
+        env_id=PRIOR_ENVS[name],
+        seed=column_set,
+        episodes=0,
+        deps=tuple(prior_run_id(name, s) for s in candidate_seeds(column_set, candidates)),
+    )
+
+
 def with_env_kwargs(
     tasks: tuple[tuple[str, str, dict[str, Any]], ...], env_kwargs: dict[str, Any]
 ) -> tuple[tuple[str, str, dict[str, Any]], ...]:
@@ -258,7 +290,7 @@ def prior_run(
         env_id=env_id,
         seed=seed,
         episodes=episodes,
-        eval_tasks=(("own", env_id, setup.env_kwargs()),),
+        eval_tasks=(("own", env_id, {**setup.env_kwargs(), **setup.source_env_kwargs(env_id)}),),
         eval_episodes=eval_episodes,
         sac_kwargs=setup.sac_kwargs(prior=True),
         env_kwargs=setup.train_env_kwargs(env_id),
@@ -275,20 +307,24 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
     for path in config.paths:
         for agent in config.agents:
             needed.update(t.format(path=path) for t in AGENTS[agent])
+    k = setup.prior_candidates
     runs: list[RunSpec] = []
-    for seed in prior_seeds:
+    for column_set in prior_seeds:
         for name in PRIOR_ENVS:
             if name in needed:
-                runs.append(
-                    prior_run(
-                        name,
-                        seed,
-                        budget.prior_episodes[name],
-                        setup,
-                        budget.eval_episodes,
-                        prior_run_id(name, seed),
+                for seed in candidate_seeds(column_set, k):
+                    runs.append(
+                        prior_run(
+                            name,
+                            seed,
+                            budget.prior_episodes[name],
+                            setup,
+                            budget.eval_episodes,
+                            prior_run_id(name, seed),
+                        )
                     )
-                )
+                if k > 1:
+                    runs.append(select_run(name, column_set, k))
     # baselines next (cheap, no dependencies), then the learners seed by seed, so that an
     # interrupted study has every agent on both tasks for its first seeds
     for path in config.paths:
@@ -315,7 +351,9 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                 record += (episodes - 1,)  # the last training episode: where the budget ends
             prior_seed = seed if config.prior_per_seed else 0
             for agent in config.agents:
-                deps = tuple(prior_run_id(t.format(path=path), prior_seed) for t in AGENTS[agent])
+                deps = tuple(
+                    column_run_id(t.format(path=path), prior_seed, k) for t in AGENTS[agent]
+                )
                 own_env = setup.agent_env_kwargs(agent)
                 runs.append(
                     RunSpec(

@@ -93,6 +93,23 @@ Factors:
   density and size, :mod:`rov_envs.sim.layouts`, none of the new layouts' generators; ours:
   the avoidance column learns among obstacles of many sizes and spacings, as SPNN meets them
   within d_th).
+* ``oa_corridor``: the corridor half-width d_L (m) of the obstacle-avoidance source task's
+  training episodes, |g| < d_L around its start-goal line (None: the task's 30 m, the straight
+  tasks' d_L). The planning tasks it is composed into keep the vehicle within 30 m (straight)
+  or 15 m (sine) of their route (section 4.2.1); an avoidance column trained within 30 m may
+  go round a whole field of obstacles where the sine task's corridor allows no such detour.
+* ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
+  the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
+  so that it reads there what it was trained on, in the SPNN's planning runs; no other run
+  changes. Without it a column trained within a corridor (``oa_corridor``) cannot see how close
+  to the corridor's edge a detour has taken it.
+* ``prior_candidates``: each source column is trained this many times (training seeds
+  ``k * set + j``, j < k, for the column set ``set``: 0 for the shared one) and the candidate
+  that does best on validation episodes of its own task (success rate, then mean return, of its
+  kept check) becomes the column every agent reads. 1: one training run per column (the paper
+  says nothing of how its columns were chosen). A column is trained once and read by every
+  transfer run, and one draw of it decides much of what they do; keeping the best of k on the
+  source task's own validation episodes removes a poor draw at the cost of k - 1 more runs.
 * ``planning_layout``: the obstacles the planning agents train on: ``"fixed"``, the paper's
   (section 4.3.3: trained on the original tasks only), or ``"scatter"`` (drawn afresh every
   training episode around the route; beyond the paper, reported apart). Evaluation always runs
@@ -180,6 +197,9 @@ class TrainingSetup:
     goal_distance: float | None = None
     heading_rule: str = "path"
     oa_layout: str = "avoidance"
+    oa_corridor: float | None = None
+    oa_offset_obs: bool = False
+    prior_candidates: int = 1
     planning_layout: str = "fixed"
 
     def __post_init__(self) -> None:
@@ -190,13 +210,18 @@ class TrainingSetup:
         parse_updates(self.updates)
         if self.prior_updates:
             parse_updates(self.prior_updates)
-        for name, low in (("batch_size", 1), ("prior_batch_size", 0)):
+        for name, low in (("batch_size", 1), ("prior_batch_size", 0), ("prior_candidates", 1)):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < low:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
                     + (" (0: as batch_size)" if low == 0 else "")
                 )
+        if self.prior_candidates > 1 and not self.keep_best:
+            raise ValueError(
+                f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
+                "the best candidate is chosen on its validation checks (keep_best=true)"
+            )
         if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
             raise ValueError(
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
@@ -240,6 +265,12 @@ class TrainingSetup:
             raise ValueError(
                 f"oa_layout={self.oa_layout!r} is not allowed: expected one of "
                 f"{sorted(LAYOUT_CODES)}"
+            )
+        corridor = self.oa_corridor
+        if corridor is not None and not (is_finite_number(corridor) and 1 <= corridor <= 100):
+            raise ValueError(
+                f"oa_corridor={corridor!r} is not allowed: expected a half-width in [1, 100] (m), "
+                "or None for the task's own"
             )
         if self.planning_layout not in ("fixed", "scatter"):
             raise ValueError(
@@ -286,6 +317,17 @@ class TrainingSetup:
         column)."""
         if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
             return {"goal_obs": False}
+        if agent == "spnn" and self.oa_offset_obs:
+            return {"goal_offset": True}
+        return {}
+
+    def source_env_kwargs(self, env_id: str) -> dict[str, Any]:
+        """What a source column's task adds to :meth:`env_kwargs` (training and evaluation
+        alike): the obstacle-avoidance column's offset from its route (``oa_offset_obs``)."""
+        from rov_envs.sim.tasks import task_of_env
+
+        if self.oa_offset_obs and task_of_env(env_id).name == "ObstacleAvoidance":
+            return {"goal_offset": True}
         return {}
 
     def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
@@ -303,6 +345,12 @@ class TrainingSetup:
         layout = self._training_layout(env_id) if env_id is not None else None
         if layout is not None:
             kwargs["layout"] = layout
+        if env_id is not None:
+            from rov_envs.sim.tasks import task_of_env
+
+            kwargs.update(self.source_env_kwargs(env_id))
+            if self.oa_corridor is not None and task_of_env(env_id).name == "ObstacleAvoidance":
+                kwargs["corridor"] = float(self.oa_corridor)
         return kwargs
 
     def _training_layout(self, env_id: str) -> str | None:
@@ -496,6 +544,9 @@ FACTOR_LABELS: dict[str, str] = {
     "goal_distance": "goal: route point ahead (m)",
     "heading_rule": "heading rule of the planning tasks reads",
     "oa_layout": "obstacles of the avoidance task",
+    "oa_corridor": "corridor half-width of the avoidance task (m)",
+    "oa_offset_obs": "avoidance column observes its distance from the route",
+    "prior_candidates": "source column: best of this many training runs on its validation",
     "planning_layout": "obstacles the planning agents train on",
 }
 
@@ -516,6 +567,8 @@ def describe_value(name: str, value: Any) -> str:
         return "as the samples per update"
     if name == "pf_start_spread" and value is None:
         return "as the training start noise"
+    if name == "oa_corridor" and value is None:
+        return "the task's (30 m)"
     if name == "pnn_lateral_init_sine" and value is None:
         return "as on the straight path"
     if name in ("updates", "prior_updates"):

@@ -11,6 +11,8 @@ It writes into the run's temporary folder:
 * ``episodes.json``: per training episode return, length, success and end reason
   (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
   training episodes (key ``ep_<index>``, arrays (T, 2));
+* ``selection.json`` (``select`` runs): each candidate's kept validation check and the one kept;
+  the run's ``model.zip``, ``validation.json`` and ``eval.json`` are that candidate's;
 * ``eval.json``: for every run with evaluation tasks (all of them in the study), one
   :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
   ``eval_episodes`` episodes with seeds ``EVAL_SEED + i`` (the same episodes for every policy)
@@ -20,6 +22,8 @@ It writes into the run's temporary folder:
 from __future__ import annotations
 
 import json
+import math
+import shutil
 import time
 from pathlib import Path
 from typing import Any
@@ -134,9 +138,47 @@ def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:
     }
 
 
+def kept_check(run: Path) -> tuple[float, float] | None:
+    """(success rate, mean return) of the validation check whose policy ``run`` kept: what
+    :class:`sb3_pnn.common.callbacks.KeepBestOnValidation` ranks checks by; None when its
+    budget ended before the first check (it kept its last policy)."""
+    path = run / "validation.json"
+    if not path.is_file():
+        raise ValueError(
+            f"{str(run)!r} has no validation.json: a source column can only be selected among "
+            "candidates that validated (keep_best on)"
+        )
+    history = json.loads(path.read_text())["history"]
+    if not history:
+        return None
+    best = max(history, key=lambda c: (c["success_rate"], c["mean_return"]))
+    return float(best["success_rate"]), float(best["mean_return"])
+
+
+def select(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
+    """Keep the candidate source column that did best on validation episodes of its own task
+    (success rate, then mean return; a tie goes to the first candidate, and so does the choice
+    when no candidate's budget reached a check); copy its model and records into ``tmp``."""
+    checks = {dep: kept_check(deps[dep]) for dep in spec.deps}
+    unranked = (-math.inf, -math.inf)
+    # max keeps the first of equals
+    chosen = max(spec.deps, key=lambda dep: checks[dep] or unranked)
+    for name in ("model.zip", "validation.json", "eval.json"):
+        shutil.copyfile(deps[chosen] / name, tmp / name)
+    table = {
+        dep: None if c is None else {"success_rate": c[0], "mean_return": c[1]}
+        for dep, c in checks.items()
+    }
+    (tmp / "selection.json").write_text(json.dumps({"candidates": table, "chosen": chosen}))
+    return {"chosen": chosen}
+
+
 def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
     """Train and/or evaluate one run (see the module docstring); returns manifest fields."""
     info: dict[str, Any] = {"kind": spec.kind, "agent": spec.agent}
+    if spec.kind == "select":
+        info.update(select(spec, tmp, deps))
+        return info
     if spec.kind == "baseline":
         info.update(evaluate(spec, spec.agent, tmp))
         return info

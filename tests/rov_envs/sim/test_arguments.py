@@ -47,6 +47,8 @@ BAD = [
     ("los_lookahead", 0.1),
     ("goal_distance", -5.0),
     ("heading_rule", "sideways"),
+    ("corridor", 0.5),
+    ("corridor", "wide"),
 ]
 
 

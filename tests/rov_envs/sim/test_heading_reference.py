@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import gymnasium as gym
 import numpy as np
 import pytest
 from rov_envs_helpers import paper_env
@@ -110,3 +111,25 @@ def test_goal_ahead_follows_the_route_past_its_end() -> None:
         obs, _, terminated, truncated, info = env.step(2)
         if terminated or truncated:
             break
+
+
+@pytest.mark.parametrize("task", ["ObstacleAvoidance", "PlanningSine"])
+def test_goal_offset_appends_the_distance_from_the_path(task) -> None:
+    """goal_offset=True: the goal part is [goal heading deviation / pi, g / d_L]; its first entry
+    is the part without the option, on the same episode."""
+    plain = gym.make(f"rov_envs/{task}-v0", start_noise=(3.0, 0.4))
+    wide = gym.make(f"rov_envs/{task}-v0", start_noise=(3.0, 0.4), goal_offset=True)
+    assert wide.observation_space["goal"].shape == (2,)
+    assert plain.observation_space["goal"].shape == (1,)
+    d_L = wide.unwrapped.config.d_L
+    (obs_p, _), (obs_w, info) = plain.reset(seed=3), wide.reset(seed=3)
+    for step in range(30):
+        assert obs_w["goal"][0] == obs_p["goal"][0]
+        assert obs_w["goal"][1] == pytest.approx(info["cross_track"] / d_L, abs=1e-6)
+        action = (step // 6) % 5
+        obs_p, *_ = plain.step(action)
+        obs_w, _, terminated, truncated, info = wide.step(action)
+        if terminated or truncated:
+            break
+    with pytest.raises(ValueError, match="goal_offset"):
+        gym.make("rov_envs/PathFollowingStraight-v0", goal_offset=True)

@@ -104,6 +104,23 @@ def test_end_off_path() -> None:
     _check_failure(info, r, term, trunc, "off_path")
 
 
+def test_corridor_argument_narrows_the_corridor() -> None:
+    # 20 m off the line: inside the task's 30 m corridor, outside a 15 m one
+    _, (_, r, term, _, info) = _place("rov_envs/ObstacleAvoidance-v0", 30.0, 20.0, 0.0)
+    assert info["end_reason"] != "off_path" and not term
+    _, (_, r, term, trunc, info) = _place(
+        "rov_envs/ObstacleAvoidance-v0", 30.0, 20.0, 0.0, corridor=15.0
+    )
+    _check_failure(info, r, term, trunc, "off_path")
+    # eq. 18's distance term and the path part's g / d_L read the corridor too
+    env, (obs, r, term, _, info) = _place(
+        "rov_envs/PathFollowingStraight-v0", 20.0, 6.0, 0.3, corridor=12.0
+    )
+    g = info["cross_track"]
+    assert r == pytest.approx(-abs(info["heading_error"]) / 3.14 + abs(1 - abs(g) / 12.0))
+    assert obs["path"][1] == pytest.approx(g / 12.0, abs=1e-6)
+
+
 def test_end_heading() -> None:
     _, (_, r, term, trunc, info) = _place("rov_envs/PathFollowingStraight-v0", 50.0, 0.0, math.pi)
     assert abs(info["heading_error"]) >= math.pi / 2

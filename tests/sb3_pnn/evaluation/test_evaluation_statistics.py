@@ -155,3 +155,19 @@ def test_bad_input_is_refused(kwargs, match):
     args = {"policy": "pid", "env_id": "PathFollowingStraight-v0", "n_episodes": 2, **kwargs}
     with pytest.raises(ValueError, match=match):
         evaluate_policy_on_task(**args)
+
+
+def test_a_models_training_layout_stays_with_its_own_task():
+    """A column trained among random fields within a 15 m corridor keeps those on its own task
+    and leaves them behind on another: evaluated on the dense layout, it meets the dense
+    layout's obstacles, not random fields."""
+    from types import SimpleNamespace
+
+    from sb3_pnn.evaluation.evaluate import trained_env_kwargs
+
+    kwargs = {"layout": "scatter", "corridor": 15.0, "goal_offset": True, "start_noise": [1, 0]}
+    policy = SimpleNamespace(trained_env={"id": "rov_envs/ObstacleAvoidance-v0", "kwargs": kwargs})
+    own = trained_env_kwargs(policy, "rov_envs/ObstacleAvoidance-v0")
+    assert own == {"layout": "scatter", "corridor": 15.0, "goal_offset": True}
+    other = trained_env_kwargs(policy, "rov_envs/PlanningStraightDense-v0")
+    assert other == {"goal_offset": True}

@@ -143,3 +143,48 @@ def test_pnn_goal_obs_off_drops_the_goal_part_for_pnn_alone() -> None:
         else:
             assert spec.env_kwargs == plain[spec.run_id].env_kwargs
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
+
+
+def test_oa_corridor_narrows_only_the_avoidance_columns_training() -> None:
+    """oa_corridor=15: the obstacle-avoidance column trains (and validates) within 15 m of its
+    line, is evaluated on its own task as before, and every other run's environment is
+    unchanged; the SPNN runs that read that column get a new hash through their prior's."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changed = build_plan(
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_corridor", 15.0),))
+    )
+    for spec in changed:
+        if spec.run_id == "prior-oa-s0":
+            assert spec.env_kwargs["corridor"] == 15.0
+            assert "corridor" not in plain[spec.run_id].env_kwargs
+            assert spec.eval_tasks == plain[spec.run_id].eval_tasks
+            assert spec.config_hash() != plain[spec.run_id].config_hash()
+        else:
+            assert spec.env_kwargs == plain[spec.run_id].env_kwargs
+            assert spec.eval_tasks == plain[spec.run_id].eval_tasks
+
+
+@pytest.mark.parametrize("value", [0.5, 500.0, float("nan")])
+def test_bad_oa_corridor_is_refused(value) -> None:
+    with pytest.raises(ValueError, match="oa_corridor"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_corridor", value),))
+
+
+def test_oa_offset_obs_reaches_the_avoidance_column_and_the_spnn_only() -> None:
+    """oa_offset_obs: the avoidance column trains and is evaluated with its offset in the goal
+    part, and the SPNN's planning runs (training and evaluation) observe it too, so that the
+    column reads what it was trained on; no other run changes."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changed = build_plan(
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_offset_obs", True),))
+    )
+    touched = set()
+    for spec in changed:
+        if spec.run_id == "prior-oa-s0" or spec.agent == "spnn":
+            touched.add(spec.run_id)
+            assert spec.env_kwargs["goal_offset"] is True
+            assert all(kw["goal_offset"] is True for _, _, kw in spec.eval_tasks)
+        else:
+            assert spec.env_kwargs == plain[spec.run_id].env_kwargs
+            assert spec.eval_tasks == plain[spec.run_id].eval_tasks
+    assert touched == {"prior-oa-s0", "spnn-straight-s0", "spnn-sine-s0"}

@@ -1,0 +1,121 @@
+"""Source columns chosen among candidates (``prior_candidates``): the plan, the choice, a study."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.planning.setups import OURS, PAPER
+from sb3_pnn.reproduce.running.work import run_work
+
+
+def _plan(k: int, **kwargs):
+    config = StudyConfig(budget_name="tiny", setup_changes=(("prior_candidates", k),), **kwargs)
+    return {s.run_id: s for s in build_plan(config)}
+
+
+def test_one_candidate_plans_the_study_as_before() -> None:
+    before = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=2))}
+    after = _plan(1, seeds=2)
+    assert {i: s.config_hash() for i, s in after.items()} == {
+        i: s.config_hash() for i, s in before.items()
+    }
+
+
+def test_each_column_is_trained_k_times_and_the_transfer_runs_read_the_choice() -> None:
+    plan = _plan(3, seeds=2)
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=2))}
+    for name in ("pf_straight", "pf_sine", "oa"):
+        candidates = [f"prior-{name}-s{j}" for j in range(3)]
+        for j, rid in enumerate(candidates):  # the same runs as per-seed columns of seeds 0-2
+            assert plan[rid].kind == "prior" and plan[rid].seed == j
+        select = plan[f"prior-{name}-best3-s0"]
+        assert select.kind == "select" and select.deps == tuple(candidates)
+        assert plain["prior-" + name + "-s0"].config_hash() == plan[candidates[0]].config_hash()
+    order = list(plan)
+    for spec in plan.values():
+        assert all(order.index(d) < order.index(spec.run_id) for d in spec.deps)
+    assert plan["spnn-sine-s1"].deps == ("prior-pf_sine-best3-s0", "prior-oa-best3-s0")
+    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best3-s0",)
+    assert plan["sac_single-sine-s0"].deps == ()
+    # with a column set per seed, seed s's candidates are seeds 3s, 3s + 1, 3s + 2
+    per_seed = _plan(3, seeds=2, prior_per_seed=True)
+    assert per_seed["prior-oa-best3-s1"].deps == ("prior-oa-s3", "prior-oa-s4", "prior-oa-s5")
+    assert per_seed["spnn-straight-s1"].deps[1] == "prior-oa-best3-s1"
+
+
+def test_candidates_need_validation_checks() -> None:
+    with pytest.raises(ValueError, match="prior_candidates=3 is not allowed with keep_best off"):
+        PAPER.with_(prior_candidates=3)
+    with pytest.raises(ValueError, match="prior_candidates=0 is not allowed"):
+        OURS.with_(prior_candidates=0)
+
+
+def _candidate(folder, history, tag):
+    folder.mkdir()
+    (folder / "validation.json").write_text(json.dumps({"history": history}))
+    (folder / "model.zip").write_text(tag)
+    (folder / "eval.json").write_text(json.dumps({"own": tag}))
+
+
+def _check(episode, success, ret):
+    return {"episode": episode, "success_rate": success, "mean_return": ret}
+
+
+def test_the_candidate_with_the_best_kept_check_is_copied(tmp_path) -> None:
+    spec = _plan(3, seeds=1)["prior-oa-best3-s0"]
+    deps = {d: tmp_path / d for d in spec.deps}
+    # kept checks: (0.9, 500), (1.0, 210), (1.0, 230): success first, then return
+    _candidate(deps[spec.deps[0]], [_check(25, 0.9, 500.0), _check(50, 0.5, 600.0)], "a")
+    _candidate(deps[spec.deps[1]], [_check(25, 1.0, 210.0), _check(50, 0.8, 400.0)], "b")
+    _candidate(deps[spec.deps[2]], [_check(25, 0.2, 900.0), _check(50, 1.0, 230.0)], "c")
+    out = tmp_path / "out"
+    out.mkdir()
+    info = run_work(spec, out, deps)
+    assert info["chosen"] == "prior-oa-s2"
+    assert (out / "model.zip").read_text() == "c"
+    assert json.loads((out / "eval.json").read_text()) == {"own": "c"}
+    table = json.loads((out / "selection.json").read_text())
+    assert table["chosen"] == "prior-oa-s2"
+    assert table["candidates"]["prior-oa-s0"] == {"success_rate": 0.9, "mean_return": 500.0}
+
+
+def test_ties_and_budgets_shorter_than_a_check_go_to_the_first_candidate(tmp_path) -> None:
+    spec = _plan(2, seeds=1)["prior-pf_sine-best2-s0"]
+    deps = {d: tmp_path / d for d in spec.deps}
+    for tag, dep in zip("ab", spec.deps, strict=True):
+        _candidate(deps[dep], [_check(25, 1.0, 300.0)], tag)
+    out = tmp_path / "out"
+    out.mkdir()
+    assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s0"
+    # a candidate that never validated ranks below one that did; none validated: the first
+    (deps[spec.deps[0]] / "validation.json").write_text(json.dumps({"history": []}))
+    assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s1"
+    (deps[spec.deps[1]] / "validation.json").write_text(json.dumps({"history": []}))
+    assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s0"
+    table = json.loads((out / "selection.json").read_text())["candidates"]
+    assert table == {"prior-pf_sine-s0": None, "prior-pf_sine-s1": None}
+    (deps[spec.deps[1]] / "validation.json").unlink()
+    with pytest.raises(ValueError, match="has no validation.json"):
+        run_work(spec, out, deps)
+
+
+@pytest.mark.slow
+def test_tiny_real_study_with_two_candidates(tmp_path) -> None:
+    out = tmp_path / "study"
+    proc = subprocess.run(
+        [sys.executable, "-m", "sb3_pnn.reproduce", "--tiny", "--seeds", "1", "--jobs", "2",
+         "--agents", "spnn", "--set", "prior_candidates=2", "--no-progress", "--out", str(out)],
+        capture_output=True, text=True, timeout=240,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "failed: 0" in (out / "report.md").read_text()
+    chosen = json.loads((out / "runs" / "prior-oa-best2-s0" / "selection.json").read_text())
+    assert chosen["chosen"] in ("prior-oa-s0", "prior-oa-s1")
+    copied = (out / "runs" / "prior-oa-best2-s0" / "model.zip").read_bytes()
+    assert copied == (out / "runs" / chosen["chosen"] / "model.zip").read_bytes()
+    assert (out / "runs" / "spnn-straight-s0" / "model.zip").is_file()
