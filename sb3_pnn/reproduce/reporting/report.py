@@ -528,6 +528,21 @@ def setup_text(config: StudyConfig) -> str:
     return f"{name} ({factors})"
 
 
+def _selection_text(results: StudyResults, candidates: int) -> str:
+    """Which candidate became each source column (``prior_candidates`` > 1), for the set-up."""
+    if candidates == 1:
+        return ""
+    chosen = [
+        f"{r.spec.run_id} = {r.manifest['chosen']}"
+        for r in sorted(results.select("select"), key=lambda r: r.spec.run_id)
+        if "chosen" in r.manifest
+    ]
+    return (
+        f", each column the best of {candidates} training runs on validation episodes of its own "
+        "task" + (f" ({', '.join(chosen)})" if chosen else "")
+    )
+
+
 def _setup_lines(
     results: StudyResults, config: StudyConfig, sessions: list[dict[str, Any]], folder: Path
 ) -> list[str]:
@@ -540,7 +555,7 @@ def _setup_lines(
     total_wall = sum(float(s.get("wall_s", 0.0)) for s in sessions)
     prior_text = (
         "one set per seed" if config.prior_per_seed else "one set (seed 0) shared by all seeds"
-    )
+    ) + _selection_text(results, config.setup.prior_candidates)
     seeds = sorted({r.spec.seed for r in results.runs.values() if r.spec.kind == "transfer"})
     return [
         "## Set-up",

@@ -113,9 +113,12 @@ def test_tiny_real_study_with_two_candidates(tmp_path) -> None:
         capture_output=True, text=True, timeout=240,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert "failed: 0" in (out / "report.md").read_text()
+    report = (out / "report.md").read_text()
+    assert "failed: 0" in report
     chosen = json.loads((out / "runs" / "prior-oa-best2-s0" / "selection.json").read_text())
     assert chosen["chosen"] in ("prior-oa-s0", "prior-oa-s1")
+    assert "each column the best of 2 training runs" in report
+    assert f"prior-oa-best2-s0 = {chosen['chosen']}" in report
     copied = (out / "runs" / "prior-oa-best2-s0" / "model.zip").read_bytes()
     assert copied == (out / "runs" / chosen["chosen"] / "model.zip").read_bytes()
     assert (out / "runs" / "spnn-straight-s0" / "model.zip").is_file()
