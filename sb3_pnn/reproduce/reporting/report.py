@@ -554,7 +554,10 @@ def _setup_lines(
     cores = os.cpu_count() or 1
     total_wall = sum(float(s.get("wall_s", 0.0)) for s in sessions)
     prior_text = (
-        "one set per seed" if config.prior_per_seed else "one set (seed 0) shared by all seeds"
+        "one set per seed"
+        if config.prior_per_seed
+        else "one set (seed 0) shared by all seeds, so the intervals below cover the agents' "
+        "training seeds, not the draw of these columns (`--prior-per-seed` trains a set per seed)"
     ) + _selection_text(results, config.setup.prior_candidates)
     seeds = sorted({r.spec.seed for r in results.runs.values() if r.spec.kind == "transfer"})
     return [

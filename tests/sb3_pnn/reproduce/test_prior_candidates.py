@@ -118,6 +118,7 @@ def test_tiny_real_study_with_two_candidates(tmp_path) -> None:
     chosen = json.loads((out / "runs" / "prior-oa-best2-s0" / "selection.json").read_text())
     assert chosen["chosen"] in ("prior-oa-s0", "prior-oa-s1")
     assert "each column the best of 2 training runs" in report
+    assert "not the draw of these columns" in report  # one shared set: what the intervals cover
     assert f"prior-oa-best2-s0 = {chosen['chosen']}" in report
     copied = (out / "runs" / "prior-oa-best2-s0" / "model.zip").read_bytes()
     assert copied == (out / "runs" / chosen["chosen"] / "model.zip").read_bytes()
