@@ -28,6 +28,7 @@ import torch as th
 import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 from sb3_pnn.reproduce.planning.setups import OURS
 from sb3_pnn.reproduce.running.work import EVAL_SEED
 
@@ -93,6 +94,10 @@ def main() -> None:
     oa = DiscreteSAC.load(args.oa, device="cpu")
     if oa.observation_space["goal"].shape == (2,):  # a column that reads its offset (oa_offset_obs)
         env_kwargs["goal_offset"] = True
+    # the goal part the avoidance column reads is the goal it was trained with
+    oa_kwargs = trained_env_kwargs(oa, "rov_envs/ObstacleAvoidance-v0")
+    if "goal_distance" in oa_kwargs:
+        env_kwargs["goal_distance"] = oa_kwargs["goal_distance"]
     print(
         f"d_th {args.d_th} m; env keywords {env_kwargs}; {args.episodes} episodes per task "
         f"on seeds {args.seed}+"
