@@ -139,20 +139,21 @@ def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:
 
 
 def kept_check(run: Path) -> tuple[float, float] | None:
-    """(success rate, mean return) of the validation check whose policy ``run`` kept: what
-    :class:`sb3_pnn.common.callbacks.KeepBestOnValidation` ranks checks by; None when its
-    budget ended before the first check (it kept its last policy)."""
+    """(success rate, mean return) of the validation check whose policy ``run`` kept (the
+    ``best_episode`` that :class:`sb3_pnn.common.callbacks.KeepBestOnValidation` recorded, so
+    the ranking rule lives in one place); None when its budget ended before the first check
+    (it kept its last policy)."""
     path = run / "validation.json"
     if not path.is_file():
         raise ValueError(
             f"{str(run)!r} has no validation.json: a source column can only be selected among "
             "candidates that validated (keep_best on)"
         )
-    history = json.loads(path.read_text())["history"]
-    if not history:
+    record = json.loads(path.read_text())
+    kept = [c for c in record["history"] if c["episode"] == record.get("best_episode")]
+    if not kept:
         return None
-    best = max(history, key=lambda c: (c["success_rate"], c["mean_return"]))
-    return float(best["success_rate"]), float(best["mean_return"])
+    return float(kept[0]["success_rate"]), float(kept[0]["mean_return"])
 
 
 def select(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:

@@ -55,9 +55,10 @@ def test_candidates_need_validation_checks() -> None:
         OURS.with_(prior_candidates=0)
 
 
-def _candidate(folder, history, tag):
+def _candidate(folder, history, tag, kept):
+    """A finished candidate whose callback kept the check at episode ``kept``."""
     folder.mkdir()
-    (folder / "validation.json").write_text(json.dumps({"history": history}))
+    (folder / "validation.json").write_text(json.dumps({"history": history, "best_episode": kept}))
     (folder / "model.zip").write_text(tag)
     (folder / "eval.json").write_text(json.dumps({"own": tag}))
 
@@ -70,9 +71,9 @@ def test_the_candidate_with_the_best_kept_check_is_copied(tmp_path) -> None:
     spec = _plan(3, seeds=1)["prior-oa-best3-s0"]
     deps = {d: tmp_path / d for d in spec.deps}
     # kept checks: (0.9, 500), (1.0, 210), (1.0, 230): success first, then return
-    _candidate(deps[spec.deps[0]], [_check(25, 0.9, 500.0), _check(50, 0.5, 600.0)], "a")
-    _candidate(deps[spec.deps[1]], [_check(25, 1.0, 210.0), _check(50, 0.8, 400.0)], "b")
-    _candidate(deps[spec.deps[2]], [_check(25, 0.2, 900.0), _check(50, 1.0, 230.0)], "c")
+    _candidate(deps[spec.deps[0]], [_check(25, 0.9, 500.0), _check(50, 0.5, 600.0)], "a", 25)
+    _candidate(deps[spec.deps[1]], [_check(25, 1.0, 210.0), _check(50, 0.8, 400.0)], "b", 25)
+    _candidate(deps[spec.deps[2]], [_check(25, 0.2, 900.0), _check(50, 1.0, 230.0)], "c", 50)
     out = tmp_path / "out"
     out.mkdir()
     info = run_work(spec, out, deps)
@@ -88,14 +89,18 @@ def test_ties_and_budgets_shorter_than_a_check_go_to_the_first_candidate(tmp_pat
     spec = _plan(2, seeds=1)["prior-pf_sine-best2-s0"]
     deps = {d: tmp_path / d for d in spec.deps}
     for tag, dep in zip("ab", spec.deps, strict=True):
-        _candidate(deps[dep], [_check(25, 1.0, 300.0)], tag)
+        _candidate(deps[dep], [_check(25, 1.0, 300.0)], tag, 25)
     out = tmp_path / "out"
     out.mkdir()
     assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s0"
     # a candidate that never validated ranks below one that did; none validated: the first
-    (deps[spec.deps[0]] / "validation.json").write_text(json.dumps({"history": []}))
+    (deps[spec.deps[0]] / "validation.json").write_text(
+        json.dumps({"history": [], "best_episode": None})
+    )
     assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s1"
-    (deps[spec.deps[1]] / "validation.json").write_text(json.dumps({"history": []}))
+    (deps[spec.deps[1]] / "validation.json").write_text(
+        json.dumps({"history": [], "best_episode": None})
+    )
     assert run_work(spec, out, deps)["chosen"] == "prior-pf_sine-s0"
     table = json.loads((out / "selection.json").read_text())["candidates"]
     assert table == {"prior-pf_sine-s0": None, "prior-pf_sine-s1": None}
