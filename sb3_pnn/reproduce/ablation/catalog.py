@@ -65,6 +65,7 @@ EXTRA_VALUES: dict[str, tuple[Any, ...]] = {
     "target_entropy_ratio": (0.2,),
     "oa_layout": ("scatter",),
     "oa_corridor": (15.0,),
+    "spnn_gate": ("soft",),
 }
 #: Factors with no cell of their own, each with why and where it is measured instead.
 _ONLY_PNN = "only PNN reads it and no ablation task trains PNN; measured "
@@ -75,6 +76,11 @@ NOT_ABLATED: dict[str, str] = {
     "planning_layout": "beyond the paper's protocol (the agents train on other obstacles than "
     "the paper's tasks have): its runs are reported apart, as extra rows of Figure 20 "
     "(docs/results.md)",
+    "spnn_gate_sine": "an ablation cell's SPNN trains on one path at a time (spnn_gate's cell); "
+    "measured with the study's own SPNN runs (docs/ablation/README.md, section 11)",
+    "spnn_gate_temperature": "read only with spnn_gate=soft, whose cell uses the factor's "
+    "default (2 m); measured with the study's own SPNN runs (docs/ablation/README.md, "
+    "section 11)",
     "spnn_d_th": "the paper's and ours are equal (12.5 m); 8 m was measured by retraining the "
     "5-seed study's ten SPNN runs with it (docs/ablation/spnn_d_th)",
     "pnn_lateral_init": _ONLY_PNN

@@ -68,6 +68,16 @@ Factors:
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it.
+* ``spnn_gate``, ``spnn_gate_temperature``: how SPNN's selector weighs its two priors
+  (:mod:`sb3_pnn.progressive.gates`): ``"hard"``, eq. 15's switch at d_th; ``"soft"``, the
+  avoidance prior's weight sigmoid((d_th - d) / T) with T = ``spnn_gate_temperature`` metres,
+  so that the laterals (and the KL term's prior, a mix of the two) blend where the nearest
+  obstacle is about d_th away instead of flipping there; ``"learned"``, an A2T-style softmax
+  gate trained with the network that owns it (the paper's future work). Only SPNN runs read
+  them; the temperature only with the soft gate. ``spnn_gate_sine`` gives the sine path a
+  gate of its own (``None``: ``spnn_gate`` on both paths). Ours: the switch on the straight
+  path, the soft gate (T = 2 m) on the sinusoid, whose 15 m corridor leaves no room for the
+  avoidance prior's detours once the switch has handed it the laterals.
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -188,6 +198,9 @@ class TrainingSetup:
     pnn_init_from_prior: str = "neither"
     spnn_init_from_prior: str = "neither"
     spnn_d_th: float = PAPER_D_TH
+    spnn_gate: str = "hard"
+    spnn_gate_sine: str | None = None
+    spnn_gate_temperature: float = 2.0
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -230,6 +243,21 @@ class TrainingSetup:
         if not float(self.spnn_d_th) > 0.0:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
+            )
+        from sb3_pnn.progressive.gates import GATES
+
+        for name in ("spnn_gate", "spnn_gate_sine"):
+            value = getattr(self, name)
+            if value not in GATES and not (name == "spnn_gate_sine" and value is None):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected one of {list(GATES)}"
+                    + (" (or None for spnn_gate's)" if name == "spnn_gate_sine" else "")
+                )
+        temperature = self.spnn_gate_temperature
+        if not (is_finite_number(temperature) and temperature > 0):
+            raise ValueError(
+                f"spnn_gate_temperature={temperature!r} is not allowed: expected a distance "
+                "> 0 (m)"
             )
         for name in ("spnn_sigma", "spnn_own_weight", "spnn_prior_kl", "pnn_prior_kl"):
             value = getattr(self, name)
@@ -394,7 +422,24 @@ class TrainingSetup:
         for name, (reader, key) in AGENT_FACTORS.items():  # written always: the policies'
             if agent == reader:  # own defaults are the recommended set-up's, not the paper's
                 kwargs["policy_kwargs"][key] = self._policy_value(name, path)[0]
+        gate = self.spnn_gate_of(path) if agent == "spnn" else "hard"
+        if gate != "hard":  # named only off the paper's switch, so earlier runs keep their hash
+            kwargs["policy_kwargs"]["gate"] = gate
+            if gate == "soft":
+                kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         return kwargs
+
+    def spnn_gate_of(self, path: str) -> str:
+        """The SPNN's gate on planning path ``path`` (``spnn_gate_sine`` on the sine path when
+        set, else ``spnn_gate``)."""
+        if self.spnn_gate_sine is None or self.spnn_gate_sine == self.spnn_gate:
+            return self.spnn_gate
+        if path not in ("straight", "sine"):
+            raise ValueError(
+                f"spnn_gate_sine={self.spnn_gate_sine!r} depends on the path: expected "
+                "path='straight' or 'sine'"
+            )
+        return self.spnn_gate_sine if path == "sine" else self.spnn_gate
 
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
@@ -503,6 +548,7 @@ OURS = TrainingSetup(
     spnn_sigma=1.0,
     spnn_own_weight=1.0,
     spnn_prior_kl=DEFAULT_PRIOR_KL,
+    spnn_gate_sine="soft",
     goal_obs=True,
     goal_distance=25.0,
     heading_rule="goal",
@@ -535,6 +581,9 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
     "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
     "spnn_d_th": "SPNN switch distance d_th (m)",
+    "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",
+    "spnn_gate_sine": "SPNN selector on the sine path",
+    "spnn_gate_temperature": "SPNN soft selector's temperature (m)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
@@ -569,7 +618,7 @@ def describe_value(name: str, value: Any) -> str:
         return "as the training start noise"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
-    if name == "pnn_lateral_init_sine" and value is None:
+    if name in ("pnn_lateral_init_sine", "spnn_gate_sine") and value is None:
         return "as on the straight path"
     if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
@@ -628,6 +677,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             value = float(value) if ok else value
         elif isinstance(default, int):
             ok = isinstance(value, int) and not isinstance(value, bool)
+        elif name == "spnn_gate_sine":  # a gate's name, or null for spnn_gate's
+            ok = value is None or isinstance(value, str)
         elif default is None:  # a number, or null for "as the factor it refines"
             ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
             value = float(value) if ok and value is not None else value
@@ -639,6 +690,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             example = json.dumps(list(default) if isinstance(default, tuple) else default)
             if default is None:
                 example = "1.0 (a number, or null)"
+            if name == "spnn_gate_sine":
+                example = "soft (a gate's name, or null)"
             raise ValueError(
                 f"--set {item!r} is not allowed: expected a value like {name}={example}"
             )

@@ -335,8 +335,12 @@ def test_agent_factor_values_checked() -> None:
     assert OURS.sac_kwargs(agent="pnn", path="sine")["policy_kwargs"]["lateral_scale_init"] == 1
     # both set-ups switch at eq. 15's 12.5 m
     assert PAPER.sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 12.5
-    assert OURS.sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 12.5
-    assert OURS.with_(spnn_d_th=8.0).sac_kwargs(agent="spnn")["policy_kwargs"]["d_th"] == 8.0
+    assert OURS.sac_kwargs(agent="spnn", path="sine")["policy_kwargs"]["d_th"] == 12.5
+    eight = OURS.with_(spnn_d_th=8.0).sac_kwargs(agent="spnn", path="straight")
+    assert eight["policy_kwargs"]["d_th"] == 8.0
+    # ours' gate differs by path, so an SPNN's keywords need the path
+    with pytest.raises(ValueError, match="spnn_gate_sine='soft' depends on the path"):
+        OURS.sac_kwargs(agent="spnn")
     with pytest.raises(ValueError, match=r"spnn_d_th=0\.0 is not allowed: expected a distance > 0"):
         OURS.with_(spnn_d_th=0.0)
 

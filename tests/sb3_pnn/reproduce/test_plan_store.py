@@ -170,6 +170,67 @@ def test_bad_oa_corridor_is_refused(value) -> None:
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_corridor", value),))
 
 
+def _spnn_gates(changes: tuple = ()) -> tuple[dict, dict]:
+    """(run id -> the SPNN policy's (gate, temperature) as its spec names them, run id -> spec)
+    of a tiny one-seed plan with ``changes``."""
+    specs = {
+        s.run_id: s
+        for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    }
+    gates = {
+        run_id: (
+            spec.sac_kwargs["policy_kwargs"].get("gate"),
+            spec.sac_kwargs["policy_kwargs"].get("temperature"),
+        )
+        for run_id, spec in specs.items()
+        if spec.agent == "spnn"
+    }
+    return gates, specs
+
+
+def test_the_default_spnn_gate_is_the_switch_on_the_straight_path_and_soft_on_the_sine() -> None:
+    gates, _ = _spnn_gates()
+    assert gates == {"spnn-straight-s0": (None, None), "spnn-sine-s0": ("soft", 2.0)}
+
+
+def test_the_switch_on_both_paths_names_no_gate_and_changes_only_the_sine_spnn() -> None:
+    """spnn_gate_sine=null puts eq. 15's switch back on the sine path: no run's spec names a
+    gate (runs made before the factor existed keep their hash), and only the sine SPNN run
+    differs from the default plan's."""
+    _, default = _spnn_gates()
+    gates, specs = _spnn_gates((("spnn_gate_sine", None),))
+    assert set(gates.values()) == {(None, None)}
+    for run_id, spec in specs.items():
+        same = spec.config_hash() == default[run_id].config_hash()
+        assert same == (run_id != "spnn-sine-s0")
+
+
+def test_spnn_gate_reaches_only_the_spnn_runs() -> None:
+    """spnn_gate=soft with spnn_gate_sine=null: both SPNN runs get the soft gate at the given
+    temperature; no other run changes."""
+    _, default = _spnn_gates()
+    changes = (("spnn_gate", "soft"), ("spnn_gate_sine", None), ("spnn_gate_temperature", 3.0))
+    gates, specs = _spnn_gates(changes)
+    assert gates == {"spnn-straight-s0": ("soft", 3.0), "spnn-sine-s0": ("soft", 3.0)}
+    for run_id, spec in specs.items():
+        if spec.agent != "spnn":
+            assert spec.config_hash() == default[run_id].config_hash()
+
+
+@pytest.mark.parametrize(
+    ("factor", "value"),
+    [
+        ("spnn_gate", "fuzzy"),
+        ("spnn_gate_sine", "fuzzy"),
+        ("spnn_gate_temperature", 0.0),
+        ("spnn_gate_temperature", -1.0),
+    ],
+)
+def test_bad_spnn_gate_is_refused(factor, value) -> None:
+    with pytest.raises(ValueError, match=factor):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
+
+
 def test_oa_offset_obs_reaches_the_avoidance_column_and_the_spnn_only() -> None:
     """oa_offset_obs: the avoidance column trains and is evaluated with its offset in the goal
     part, and the SPNN's planning runs (training and evaluation) observe it too, so that the

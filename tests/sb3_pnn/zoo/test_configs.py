@@ -115,7 +115,7 @@ def test_priors_match_the_task(algo: str, setup: str) -> None:
                 training.spnn_d_th,
                 training.spnn_sigma,
                 training.spnn_own_weight,
-                "hard",
+                training.spnn_gate_of("sine" if sine else "straight"),
             )
         else:
             assert len(priors) == 1
