@@ -256,8 +256,7 @@ class TrainingSetup:
         temperature = self.spnn_gate_temperature
         if not (is_finite_number(temperature) and temperature > 0):
             raise ValueError(
-                f"spnn_gate_temperature={temperature!r} is not allowed: expected a distance "
-                "> 0 (m)"
+                f"spnn_gate_temperature={temperature!r} is not allowed: expected a distance > 0 (m)"
             )
         for name in ("spnn_sigma", "spnn_own_weight", "spnn_prior_kl", "pnn_prior_kl"):
             value = getattr(self, name)

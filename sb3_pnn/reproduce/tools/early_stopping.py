@@ -124,8 +124,10 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not (args.study / "runs").is_dir():
         parser.error(f"{str(args.study)!r} has no runs/ folder: expected a study's --out folder")
-    print("| runs | patience (checks) | runs | same kept check | kept success (points) "
-          "| kept mean return | training steps run |")
+    print(
+        "| runs | patience (checks) | runs | same kept check | kept success (points) "
+        "| kept mean return | training steps run |"
+    )
     print("|---|---|---|---|---|---|---|")
     for r in summarize(args.study, args.patience):
         print(
