@@ -91,8 +91,10 @@ class SelectivePolicy(ProgressivePolicy):
     :param d_th: Switching distance in metres (paper: 12.5)
     :param sonar_range: Sonar range in metres (sonar observations are distance / range)
     :param sonar_key: Observation key of the sonar
-    :param gate: ``"hard"`` (paper), ``"soft"`` or ``"learned"`` (see :mod:`.gates`)
-    :param temperature: Temperature (metres) of the soft gate
+    :param gate: ``"hard"`` (paper), ``"soft"`` or ``"learned"`` (see :mod:`.gates`); the study
+        uses the soft gate on the sinusoid, whose 15 m corridor leaves no room for the
+        avoidance prior's detours (set-up factor ``spnn_gate_sine``, docs/ablation section 11)
+    :param temperature: Temperature (metres) of the soft gate (the study's: 2)
     :param gate_hidden: Hidden width of the learned gate
     :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
         (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
