@@ -26,6 +26,12 @@ VALIDATION_EVERY = 25
 VALIDATION_EPISODES = 30
 
 
+def validation_rank(check: dict[str, Any]) -> tuple[float, float]:
+    """How checks are ranked (a later check is kept only when it ranks strictly higher):
+    success rate, then mean return, of one ``history`` entry of :class:`KeepBestOnValidation`."""
+    return (float(check["success_rate"]), float(check["mean_return"]))
+
+
 class KeepBestOnValidation(BaseCallback):
     """Validate every ``every`` episodes on ``env_id``; keep the best weights (see the module).
 
@@ -89,14 +95,13 @@ class KeepBestOnValidation(BaseCallback):
             seed=self.seed,
             env_kwargs=self.env_kwargs or None,
         )
-        key = (result.success_rate, result.mean_return)
-        self.history.append(
-            {
-                "episode": self.episodes,
-                "success_rate": result.success_rate,
-                "mean_return": result.mean_return,
-            }
-        )
+        entry = {
+            "episode": self.episodes,
+            "success_rate": result.success_rate,
+            "mean_return": result.mean_return,
+        }
+        self.history.append(entry)
+        key = validation_rank(entry)
         if self._best_key is None or key > self._best_key:
             self._best_key = key
             self.best_episode = self.episodes

@@ -153,7 +153,9 @@ def kept_check(run: Path) -> tuple[float, float] | None:
     kept = [c for c in record["history"] if c["episode"] == record.get("best_episode")]
     if not kept:
         return None
-    return float(kept[0]["success_rate"]), float(kept[0]["mean_return"])
+    from sb3_pnn.common.callbacks import validation_rank
+
+    return validation_rank(kept[0])
 
 
 def select(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:

@@ -26,13 +26,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-#: A validation check's rank, as KeepBestOnValidation orders them: success, then mean return.
+from sb3_pnn.common.callbacks import validation_rank
+
+#: A validation check's rank (:func:`sb3_pnn.common.callbacks.validation_rank`).
 Key = tuple[float, float]
-
-
-def key_of(check: dict[str, float]) -> Key:
-    """The (success rate, mean return) that decides which check a run keeps."""
-    return (float(check["success_rate"]), float(check["mean_return"]))
 
 
 def stop_point(keys: Sequence[Key], patience: int) -> tuple[int, int]:
@@ -58,24 +55,38 @@ def run_group(run_dir: Path) -> str:
     return head if sep and tail.isdigit() else run_dir.name
 
 
+def _read_json(path: Path) -> Any:
+    try:
+        return json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as error:
+        raise ValueError(f"{str(path)!r} is not a readable JSON record: {error}") from None
+
+
 def stopped_run(run_dir: Path, patience: int) -> dict[str, Any] | None:
     """One run's outcome under a patience stop (None: the run kept no validation record)."""
     validation, episodes = run_dir / "validation.json", run_dir / "episodes.json"
     if not (validation.is_file() and episodes.is_file()):
         return None
-    history = json.loads(validation.read_text())["history"]
-    lengths = json.loads(episodes.read_text())["lengths"]
+    record, lengths = _read_json(validation), _read_json(episodes)
+    try:
+        history, lengths = record["history"], lengths["lengths"]
+        keys = [validation_rank(check) for check in history]
+        episodes_of = [int(check["episode"]) for check in history]
+        full = episodes_of.index(record["best_episode"]) if history else None
+    except (KeyError, TypeError, ValueError) as error:
+        raise ValueError(
+            f"{str(run_dir)!r} holds a validation or episode record of another shape "
+            f"({type(error).__name__}: {error}): expected the study's validation.json and "
+            "episodes.json"
+        ) from None
     if not history or not lengths:
         return None
-    keys = [key_of(check) for check in history]
     stop, kept = stop_point(keys, patience)
-    _, full = stop_point(keys, len(keys) + 1)
-    stop_episode = int(history[stop]["episode"])
     return {
         "same_check": kept == full,
         "success_change": keys[kept][0] - keys[full][0],
         "return_change": keys[kept][1] - keys[full][1],
-        "steps_run": sum(lengths[:stop_episode]),
+        "steps_run": sum(lengths[: episodes_of[stop]]),
         "steps": sum(lengths),
     }
 
@@ -119,17 +130,28 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("study", type=Path, help="a study's output folder (with runs/)")
     parser.add_argument(
-        "--patience", type=int, nargs="+", default=[2, 4, 8], help="checks without a better one"
+        "--patience",
+        type=int,
+        nargs="+",
+        default=[2, 4, 8],
+        help="checks without a better one (integers >= 1)",
     )
     args = parser.parse_args(argv)
     if not (args.study / "runs").is_dir():
         parser.error(f"{str(args.study)!r} has no runs/ folder: expected a study's --out folder")
+    bad = [p for p in args.patience if p < 1]
+    if bad:
+        parser.error(f"--patience {bad[0]} is not allowed: expected integers >= 1 (checks)")
     print(
         "| runs | patience (checks) | runs | same kept check | kept success (points) "
         "| kept mean return | training steps run |"
     )
     print("|---|---|---|---|---|---|---|")
-    for r in summarize(args.study, args.patience):
+    try:
+        rows = summarize(args.study, args.patience)
+    except ValueError as error:
+        parser.error(str(error))
+    for r in rows:
         print(
             f"| {r['runs']} | {r['patience']} | {r['n']} | {r['same_check']} of {r['n']} | "
             f"{r['success_change_points']:+.1f} | {r['return_change']:+.1f} | "

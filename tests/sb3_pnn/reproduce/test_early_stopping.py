@@ -57,14 +57,16 @@ def test_bad_patience_is_refused(bad) -> None:
 
 def _study(tmp_path: Path) -> Path:
     study = tmp_path / "study"
-    for name, scores in (("spnn-sine-s0", SCORES), ("spnn-sine-s1", SCORES[:2])):
+    # the runs' records as KeepBestOnValidation writes them: it kept checks 5 and 1
+    for name, scores, kept in (("spnn-sine-s0", SCORES, 5), ("spnn-sine-s1", SCORES[:2], 1)):
         run = study / "runs" / name
         run.mkdir(parents=True)
         history = [
             {"episode": 25 * (i + 1), "success_rate": s, "mean_return": r}
             for i, (s, r) in enumerate(scores)
         ]
-        (run / "validation.json").write_text(json.dumps({"history": history}))
+        record = {"history": history, "best_episode": 25 * (kept + 1)}
+        (run / "validation.json").write_text(json.dumps(record))
         lengths = [10] * 25 * len(scores)
         (run / "episodes.json").write_text(json.dumps({"lengths": lengths}))
     (study / "runs" / "pid-sine").mkdir()  # no validation record: left out
@@ -92,3 +94,21 @@ def test_summary_rows_and_the_command(tmp_path: Path, capsys) -> None:
     assert "| all | 2 | 2 | 1 of 2 |" in capsys.readouterr().out
     with pytest.raises(SystemExit):
         main([str(tmp_path / "nowhere")])
+
+
+def test_bad_patience_and_a_corrupt_record_are_refused_by_name(tmp_path: Path, capsys) -> None:
+    study = _study(tmp_path)
+    with pytest.raises(SystemExit):
+        main([str(study), "--patience", "0"])
+    assert "--patience 0 is not allowed: expected integers >= 1" in capsys.readouterr().err
+    (study / "runs" / "spnn-sine-s1" / "validation.json").write_text("{not json")
+    with pytest.raises(SystemExit):
+        main([str(study)])
+    err = capsys.readouterr().err
+    assert "spnn-sine-s1" in err and "not a readable JSON record" in err
+    (study / "runs" / "spnn-sine-s1" / "validation.json").write_text(
+        '{"history": [{"episode": 25}], "best_episode": 25}'
+    )
+    with pytest.raises(SystemExit):
+        main([str(study)])
+    assert "another shape" in capsys.readouterr().err
