@@ -9,9 +9,16 @@ noise (seeds 10000+, apart from the training seeds; before 2026-11-23 the script
 does and evaluates the policy kept. A diagnostic, not a statistic: the
 ablation (``python -m sb3_pnn.reproduce --ablation``) measures across seeds.
 
+Diagnostics of how the learner moves (not factors of the study, so never a default):
+``--sac-kwargs`` overrides DiscreteSAC's keyword arguments (e.g. ``'{"gamma": 0.995}'``),
+``--actor-lr-scale`` multiplies the actor's learning rate and ``--actor-frozen-updates N`` holds
+the actor (learning rate 0) for the first N updates while the critics and alpha learn;
+``--critic-mean`` reads the mean of the twin critics where discrete SAC reads their minimum
+(Zhou et al. 2022, "Revisiting Discrete Soft Actor-Critic").
+
 Usage: python bench/learning_trace.py --env rov_envs/PlanningStraight-v0 --setup ours
                                       [--episodes 300] [--seed 0] [--set progress_weighted=false]
-                                      [--eval-every 100]
+                                      [--eval-every 100] [--actor-frozen-updates 5000]
 """
 
 from __future__ import annotations
@@ -26,6 +33,7 @@ import torch as th
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 
 import rov_envs  # noqa: F401 - registers the tasks
+import sb3_pnn.dsac.dsac as dsac_module
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.common.callbacks import VALIDATION_SEED, KeepBestOnValidation
 from sb3_pnn.evaluation import evaluate_policy_on_task
@@ -79,6 +87,53 @@ class Trace(BaseCallback):
         )
 
 
+class PrintedChecks(KeepBestOnValidation):
+    """The study's validation, with each check printed as it is made (success and return)."""
+
+    def check(self) -> None:
+        super().check()
+        entry = self.history[-1]
+        print(
+            f"validation check at episode {entry['episode']}: success "
+            f"{entry['success_rate'] * 100:.0f} %, mean return {entry['mean_return']:.0f}",
+            flush=True,
+        )
+
+
+def hold_actor(model: DiscreteSAC, lr_scale: float, frozen_updates: int) -> None:
+    """Scale the actor's learning rate by ``lr_scale``, and set it to 0 while fewer than
+    ``frozen_updates`` updates have run (the critics and alpha learn meanwhile)."""
+    update_learning_rate = model._update_learning_rate
+
+    def scaled(optimizers) -> None:
+        update_learning_rate(optimizers)
+        factor = 0.0 if model._n_updates < frozen_updates else lr_scale
+        for group in model.actor.optimizer.param_groups:
+            group["lr"] = group["lr"] * factor
+
+    model._update_learning_rate = scaled  # type: ignore[method-assign]
+
+
+def average_critics() -> None:
+    """In this process, the target and the actor loss read the critics' mean, not their min."""
+
+    def mean(q_values: tuple[th.Tensor, ...]) -> th.Tensor:
+        return th.stack(q_values, dim=0).mean(dim=0)
+
+    dsac_module.reduce_critics = mean
+
+
+def json_object(parser: argparse.ArgumentParser, flag: str, text: str) -> dict:
+    """``text`` parsed as a JSON object, or a parser error that names ``flag`` and the text."""
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as error:
+        parser.error(f"{flag} {text!r} is not JSON: {error}")
+    if not isinstance(value, dict):
+        parser.error(f"{flag} {text!r}: expected a JSON object")
+    return value
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--env", default="rov_envs/PlanningStraight-v0")
@@ -109,13 +164,33 @@ def main() -> None:
         metavar="JSON",
         help="merged over the set-up's policy_kwargs, e.g. '{\"lateral_scale_init\": 0.1}'",
     )
+    parser.add_argument(
+        "--sac-kwargs",
+        default="{}",
+        metavar="JSON",
+        help="merged over the set-up's DiscreteSAC keyword arguments, e.g. '{\"gamma\": 0.995}'",
+    )
+    parser.add_argument(
+        "--actor-lr-scale", type=float, default=1.0, help="the actor's learning rate times this"
+    )
+    parser.add_argument(
+        "--actor-frozen-updates",
+        type=int,
+        default=0,
+        help="the actor does not learn during the first N updates (critics and alpha do)",
+    )
+    parser.add_argument(
+        "--critic-mean",
+        action="store_true",
+        help="the target and the actor read the critics' mean instead of their min",
+    )
     args = parser.parse_args()
-    try:
-        extra_policy_kwargs = json.loads(args.policy_kwargs)
-    except json.JSONDecodeError as error:
-        parser.error(f"--policy-kwargs {args.policy_kwargs!r} is not JSON: {error}")
-    if not isinstance(extra_policy_kwargs, dict):
-        parser.error(f"--policy-kwargs {args.policy_kwargs!r}: expected a JSON object")
+    extra_policy_kwargs = json_object(parser, "--policy-kwargs", args.policy_kwargs)
+    extra_sac_kwargs = json_object(parser, "--sac-kwargs", args.sac_kwargs)
+    if not args.actor_lr_scale >= 0.0:
+        parser.error(f"--actor-lr-scale {args.actor_lr_scale!r}: expected a number >= 0")
+    if args.actor_frozen_updates < 0:
+        parser.error(f"--actor-frozen-updates {args.actor_frozen_updates!r}: expected an int >= 0")
     wanted = {"sac": 0, "pnn": 1, "spnn": 2}[args.agent]
     if len(args.priors) != wanted:
         parser.error(
@@ -127,6 +202,8 @@ def main() -> None:
     except ValueError as error:
         parser.error(str(error))
     th.set_num_threads(1)
+    if args.critic_mean:
+        average_critics()
     print(f"set-up: {setup.to_dict()}", flush=True)
     sac = setup.sac_kwargs(agent=args.agent, path=path)
     sac["train_freq"] = tuple(sac["train_freq"])
@@ -135,9 +212,12 @@ def main() -> None:
     if args.agent != "sac":
         sac["policy_kwargs"]["priors"] = args.priors
     sac["policy_kwargs"].update(extra_policy_kwargs)
+    sac.update(extra_sac_kwargs)
     if args.agent == "spnn":
         sac["policy_kwargs"]["sonar_range"] = float(env.unwrapped.sonar_range)
     model = DiscreteSAC(policy[args.agent], env, seed=args.seed, device="cpu", **sac)
+    if args.actor_lr_scale != 1.0 or args.actor_frozen_updates:
+        hold_actor(model, args.actor_lr_scale, args.actor_frozen_updates)
     obs0, _ = gym.make(args.env, **setup.env_kwargs()).reset(seed=0)
 
     def evaluate(when: str) -> None:
@@ -159,7 +239,7 @@ def main() -> None:
     callbacks = [trace]
     validation = setup.validation()
     if validation:  # keep_best: what the study does (sb3_pnn.reproduce.running.work.train)
-        keeper = KeepBestOnValidation(
+        keeper = PrintedChecks(
             args.env,
             validation["every"],
             validation["episodes"],

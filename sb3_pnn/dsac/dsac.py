@@ -22,6 +22,7 @@ import inspect
 import io
 import math
 import pathlib
+import warnings
 from typing import Any, ClassVar, NamedTuple, TypeVar
 
 import gymnasium as gym
@@ -45,6 +46,7 @@ from stable_baselines3.common.utils import get_parameters_by_name
 from stable_baselines3.common.vec_env import VecEnv
 from torch.nn import functional as F
 
+from sb3_pnn.common.buffers import DictNStepReplayBuffer
 from sb3_pnn.common.checks import check_step_budget
 from sb3_pnn.dsac.policies import (
     PAPER_NET_ARCH,
@@ -79,6 +81,13 @@ class DiscreteSACLosses(NamedTuple):
     entropy: th.Tensor
 
 
+def reduce_critics(q_values: tuple[th.Tensor, ...]) -> th.Tensor:
+    """min_i Q_i: the clipped double-Q estimate both the target and the actor loss read
+    (Christodoulou 2019). One function, so that a diagnostic can swap the reduction (e.g. the
+    critics' mean of Zhou et al. 2022, ``bench/learning_trace.py --critic-mean``)."""
+    return th.stack(q_values, dim=0).min(dim=0).values
+
+
 def soft_td_target(
     next_logits: th.Tensor,
     next_q_targets: tuple[th.Tensor, ...],
@@ -100,7 +109,7 @@ def soft_td_target(
     :return: (B, 1) targets, without gradient
     """
     next_log_probs = F.log_softmax(next_logits, dim=1)
-    min_next_q = th.stack(next_q_targets, dim=0).min(dim=0).values
+    min_next_q = reduce_critics(next_q_targets)
     next_v = (next_log_probs.exp() * (min_next_q - ent_coef * next_log_probs)).sum(
         dim=1, keepdim=True
     )
@@ -141,7 +150,7 @@ def discrete_sac_losses(
     actions = actions.long().reshape(-1, 1)
     critic_loss = 0.5 * sum(F.mse_loss(q.gather(1, actions), target_q_values) for q in q_values)
 
-    min_q = th.stack(q_values, dim=0).min(dim=0).values.detach()
+    min_q = reduce_critics(q_values).detach()
     actor_loss = (probs * (ent_coef * log_probs - min_q)).sum(dim=1).mean()
     if prior_log_probs is not None and prior_kl > 0:
         kl = (probs * (log_probs - prior_log_probs)).sum(dim=1).mean()
@@ -192,7 +201,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
     :param replay_buffer_class: Replay buffer class (None: chosen from the observation space)
     :param replay_buffer_kwargs: Keyword arguments for the replay buffer
     :param optimize_memory_usage: Memory-efficient replay buffer variant
-    :param n_steps: n-step returns (SB3's ``NStepReplayBuffer``) when > 1
+    :param n_steps: n-step returns when > 1 (SB3's ``NStepReplayBuffer``; for ``Dict``
+        observations :class:`sb3_pnn.common.buffers.DictNStepReplayBuffer`)
     :param ent_coef: Entropy coefficient alpha: a float >= 0 (fixed), "auto" (learned,
         initial value 1) or "auto_<init>" (learned, initial value <init>); default "auto_0.2"
     :param target_entropy_ratio: H_target = target_entropy_ratio * log|A| when alpha is
@@ -308,7 +318,18 @@ class DiscreteSAC(OffPolicyAlgorithm):
 
     def _setup_model(self) -> None:
         _check_action_space(self.action_space)
-        super()._setup_model()
+        if (
+            self.n_steps > 1
+            and self.replay_buffer_class is None
+            and isinstance(self.observation_space, spaces.Dict)
+        ):  # SB3 refuses n-step returns for Dict observations; ours samples them
+            self.replay_buffer_class = DictNStepReplayBuffer
+            self.replay_buffer_kwargs.update({"n_steps": self.n_steps, "gamma": self.gamma})
+            with warnings.catch_warnings():  # SB3 warns that a custom class ignores n_steps
+                warnings.filterwarnings("ignore", message=".*n_steps=.* is ignored")
+                super()._setup_model()
+        else:
+            super()._setup_model()
         if not isinstance(self.policy, DiscreteSACPolicy):
             raise NotADiscreteSACPolicyError(self.policy)
         portable_kwargs = getattr(self.policy, "portable_policy_kwargs", None)
@@ -641,7 +662,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
         buffer_kwargs = dict(self.replay_buffer_kwargs)
         buffer_class = self.replay_buffer_class
         if isinstance(self.observation_space, spaces.Dict):
-            automatic = buffer_class is DictReplayBuffer
+            automatic = buffer_class is (
+                DictNStepReplayBuffer if self.n_steps > 1 else DictReplayBuffer
+            )
         else:
             automatic = buffer_class is (NStepReplayBuffer if self.n_steps > 1 else ReplayBuffer)
         if automatic:

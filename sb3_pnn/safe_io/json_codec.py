@@ -23,6 +23,8 @@ import torch as th
 from stable_baselines3.common import buffers, torch_layers
 from torch import nn
 
+from sb3_pnn.common.buffers import DictNStepReplayBuffer
+
 _SAFE_CLASSES: dict[str, type] = {}
 
 
@@ -53,6 +55,7 @@ def _register_defaults() -> None:
         register_safe_class(getattr(torch_layers, name), f"stable_baselines3.{name}")
     for name in ("ReplayBuffer", "DictReplayBuffer", "NStepReplayBuffer"):
         register_safe_class(getattr(buffers, name), f"stable_baselines3.{name}")
+    register_safe_class(DictNStepReplayBuffer, "sb3_pnn.DictNStepReplayBuffer")
 
 
 _register_defaults()

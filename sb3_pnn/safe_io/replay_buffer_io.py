@@ -27,6 +27,7 @@ import numpy as np
 import torch as th
 from stable_baselines3.common.buffers import NStepReplayBuffer, ReplayBuffer
 
+from sb3_pnn.common.buffers import DictNStepReplayBuffer
 from sb3_pnn.safe_io.checkpoint import UnsafeCheckpointError
 from sb3_pnn.safe_io.files import read_file_bytes, write_checkpoint_bytes
 from sb3_pnn.safe_io.json_codec import safe_class, safe_class_name
@@ -38,6 +39,9 @@ from sb3_pnn.safe_io.limits import (
     parse_json,
 )
 from sb3_pnn.safe_io.spaces_codec import space_from_json, space_to_json
+
+#: Buffers that sample n-step returns: their n and gamma are stored with them.
+N_STEP_BUFFERS = (NStepReplayBuffer, DictNStepReplayBuffer)
 
 FORMAT = "sb3_pnn.replay_buffer"
 VERSION = 1
@@ -72,7 +76,8 @@ def save_buffer(buffer: ReplayBuffer, path: str | pathlib.Path | io.BufferedIOBa
     if cls_name is None:
         raise ValueError(
             f"cannot save replay buffer class {type(buffer).__name__} without pickle: expected "
-            "ReplayBuffer, DictReplayBuffer or NStepReplayBuffer (or a class registered with "
+            "ReplayBuffer, DictReplayBuffer, NStepReplayBuffer or DictNStepReplayBuffer (or a "
+            "class registered with "
             "sb3_pnn.safe_io.register_safe_class)"
         )
     keys = list(buffer.observations) if isinstance(buffer.observations, dict) else None
@@ -91,7 +96,7 @@ def save_buffer(buffer: ReplayBuffer, path: str | pathlib.Path | io.BufferedIOBa
         "action_space": space_to_json(buffer.action_space),
         "obs_keys": keys,
     }
-    if isinstance(buffer, NStepReplayBuffer):
+    if isinstance(buffer, N_STEP_BUFFERS):
         meta["n_steps"] = int(buffer.n_steps)
         meta["gamma"] = float(buffer.gamma)
     n = meta["stored_rows"]
@@ -187,7 +192,7 @@ def load_buffer(
         optimize_memory_usage=bool(meta["optimize_memory_usage"]),
         handle_timeout_termination=bool(meta["handle_timeout_termination"]),
     )
-    if issubclass(cls, NStepReplayBuffer):
+    if issubclass(cls, N_STEP_BUFFERS):
         kwargs.update(n_steps=int(meta["n_steps"]), gamma=float(meta["gamma"]))
     buffer = cls(
         int(meta["buffer_size"]) * n_envs,

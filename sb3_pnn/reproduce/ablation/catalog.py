@@ -104,6 +104,11 @@ NOT_ABLATED: dict[str, str] = {
     "seeds (docs/ablation/spnn_weights, docs/ablation/README.md)",
     "spnn_own_weight": "ours 1 (the paper's 0.5); measured with spnn_sigma "
     "(docs/ablation/spnn_weights)",
+    "spnn_n_steps": "measured by retraining the 5-seed study's ten SPNN runs with n = 8 "
+    "(docs/ablation/README.md, section 12)",
+    "pnn_n_steps": _ONLY_PNN
+    + "by retraining the 5-seed study's ten PNN runs with n = 8 (docs/ablation/README.md, "
+    "section 12)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

@@ -88,6 +88,9 @@ Factors:
   reward does not pay for more (not in the paper: 0; ours: 1 for SPNN, which kept the priors'
   route keeping and avoidance, 0 for PNN, whose single path-following prior knows no
   avoidance). Only SPNN / PNN runs read them.
+* ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
+  gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
+  Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
 * ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
@@ -205,6 +208,8 @@ class TrainingSetup:
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
     pnn_prior_kl: float = 0.0
+    spnn_n_steps: int = 1
+    pnn_n_steps: int = 1
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -223,7 +228,13 @@ class TrainingSetup:
         parse_updates(self.updates)
         if self.prior_updates:
             parse_updates(self.prior_updates)
-        for name, low in (("batch_size", 1), ("prior_batch_size", 0), ("prior_candidates", 1)):
+        for name, low in (
+            ("batch_size", 1),
+            ("prior_batch_size", 0),
+            ("prior_candidates", 1),
+            ("spnn_n_steps", 1),
+            ("pnn_n_steps", 1),
+        ):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < low:
                 raise ValueError(
@@ -421,6 +432,9 @@ class TrainingSetup:
         for name, (reader, key) in AGENT_FACTORS.items():  # written always: the policies'
             if agent == reader:  # own defaults are the recommended set-up's, not the paper's
                 kwargs["policy_kwargs"][key] = self._policy_value(name, path)[0]
+        n_steps = {"spnn": self.spnn_n_steps, "pnn": self.pnn_n_steps}.get(agent, 1)
+        if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
+            kwargs["n_steps"] = n_steps
         gate = self.spnn_gate_of(path) if agent == "spnn" else "hard"
         if gate != "hard":  # named only off the paper's switch, so earlier runs keep their hash
             kwargs["policy_kwargs"]["gate"] = gate
@@ -586,6 +600,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
+    "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
+    "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "pnn_goal_obs": "PNN observes the goal part too",

@@ -231,6 +231,31 @@ def test_bad_spnn_gate_is_refused(factor, value) -> None:
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
 
 
+def test_n_step_targets_reach_only_their_agents_runs() -> None:
+    """spnn_n_steps / pnn_n_steps: DiscreteSAC's n_steps of that agent's runs, named in the
+    spec only when it is not 1 (runs made before the factors existed keep their hash)."""
+
+    def plan(spnn: int, pnn: int) -> dict:
+        changes = (("spnn_n_steps", spnn), ("pnn_n_steps", pnn))
+        config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)
+        return {s.run_id: s for s in build_plan(config)}
+
+    one_step, spnn_only = plan(1, 1), plan(5, 1)
+    assert all("n_steps" not in spec.sac_kwargs for spec in one_step.values())
+    for run_id, spec in spnn_only.items():
+        assert spec.sac_kwargs.get("n_steps") == (5 if spec.agent == "spnn" else None)
+        same = spec.config_hash() == one_step[run_id].config_hash()
+        assert same == (spec.agent != "spnn")
+    assert {s.sac_kwargs.get("n_steps") for s in plan(1, 3).values() if s.agent == "pnn"} == {3}
+
+
+@pytest.mark.parametrize("factor", ["spnn_n_steps", "pnn_n_steps"])
+@pytest.mark.parametrize("value", [0, -2, 2.5])
+def test_bad_n_steps_is_refused(factor, value) -> None:
+    with pytest.raises(ValueError, match=factor):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
+
+
 def test_oa_offset_obs_reaches_the_avoidance_column_and_the_spnn_only() -> None:
     """oa_offset_obs: the avoidance column trains and is evaluated with its offset in the goal
     part, and the SPNN's planning runs (training and evaluation) observe it too, so that the
