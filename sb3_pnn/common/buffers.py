@@ -7,9 +7,10 @@ sampled, returns for each transition (s_t, a_t) the n-step return
 
     R_t = sum_{k < m} gamma^k r_{t+k},  s' = s_{t+m},  discount gamma^m,
 
-where m <= n stops at the first step that ends the episode (terminal or truncated), exactly as
-SB3's ``NStepReplayBuffer`` does for flat observations (:func:`n_step_window` is that
-computation, shared by nothing else). ``DiscreteSAC`` picks this buffer by itself for a
+where m <= n stops at the first step that ends the episode (terminal or truncated), as SB3's
+``NStepReplayBuffer`` does for flat observations (:func:`n_step_window`; gamma^m is computed in
+float64 and rounded to float32, where SB3 computes it in float32, so the last bit may differ).
+``DiscreteSAC`` picks this buffer by itself for a
 ``Dict`` observation space with ``n_steps > 1``; the critic target then reads
 ``y = R_t + (1 - done) gamma^m V(s')`` (``soft_td_target`` with the sample's discounts).
 """

@@ -318,17 +318,16 @@ class DiscreteSAC(OffPolicyAlgorithm):
 
     def _setup_model(self) -> None:
         _check_action_space(self.action_space)
-        if (
-            self.n_steps > 1
-            and self.replay_buffer_class is None
-            and isinstance(self.observation_space, spaces.Dict)
-        ):  # SB3 refuses n-step returns for Dict observations; ours samples them
-            self.replay_buffer_class = DictNStepReplayBuffer
-            self.replay_buffer_kwargs.update({"n_steps": self.n_steps, "gamma": self.gamma})
-            with warnings.catch_warnings():  # SB3 warns that a custom class ignores n_steps
+        with warnings.catch_warnings():
+            if (
+                self.n_steps > 1
+                and self.replay_buffer_class is None
+                and isinstance(self.observation_space, spaces.Dict)
+            ):  # SB3 refuses n-step returns for Dict observations; ours samples them
+                self.replay_buffer_class = DictNStepReplayBuffer
+                self.replay_buffer_kwargs.update({"n_steps": self.n_steps, "gamma": self.gamma})
+                # SB3 warns that a class given by name ignores n_steps; this one reads it
                 warnings.filterwarnings("ignore", message=".*n_steps=.* is ignored")
-                super()._setup_model()
-        else:
             super()._setup_model()
         if not isinstance(self.policy, DiscreteSACPolicy):
             raise NotADiscreteSACPolicyError(self.policy)
