@@ -126,6 +126,7 @@ def discrete_sac_losses(
     target_entropy: float = 0.0,
     prior_log_probs: th.Tensor | None = None,
     prior_kl: float = 0.0,
+    prior_kl_weights: th.Tensor | None = None,
 ) -> DiscreteSACLosses:
     """
     Critic, actor and entropy-coefficient losses of discrete SAC (see the module docstring).
@@ -143,6 +144,8 @@ def discrete_sac_losses(
     :param target_entropy: H_target in nats (only used when ``log_ent_coef`` is given)
     :param prior_log_probs: log pi_0(.|s) of a reference policy, (B, n_actions), without
         gradient; with ``prior_kl`` = beta > 0 the actor loss adds beta * KL(pi || pi_0)
+    :param prior_kl_weights: (B,) weights of each sample's KL term (None: all 1); the term is
+        then beta * mean_s(w(s) KL(pi(.|s) || pi_0(.|s)))
     """
     log_probs = F.log_softmax(logits, dim=1)
     probs = log_probs.exp()
@@ -153,8 +156,10 @@ def discrete_sac_losses(
     min_q = reduce_critics(q_values).detach()
     actor_loss = (probs * (ent_coef * log_probs - min_q)).sum(dim=1).mean()
     if prior_log_probs is not None and prior_kl > 0:
-        kl = (probs * (log_probs - prior_log_probs)).sum(dim=1).mean()
-        actor_loss = actor_loss + prior_kl * kl
+        kl = (probs * (log_probs - prior_log_probs)).sum(dim=1)
+        if prior_kl_weights is not None:
+            kl = kl * prior_kl_weights
+        actor_loss = actor_loss + prior_kl * kl.mean()
 
     # E_s[sum_a pi log pi] = -E_s[H(pi(.|s))], no gradient to the actor
     neg_entropy = (probs * log_probs).sum(dim=1).mean().detach()
@@ -389,7 +394,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
                     ent_coef,
                 )
 
-            logits, prior_log_probs = self._actor_pass(replay_data.observations, prior_kl)
+            logits, prior_log_probs, kl_weights = self._actor_pass(
+                replay_data.observations, prior_kl
+            )
             losses = discrete_sac_losses(
                 logits=logits,
                 q_values=self.critic(replay_data.observations),
@@ -400,6 +407,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 target_entropy=self.target_entropy,
                 prior_log_probs=prior_log_probs,
                 prior_kl=prior_kl,
+                prior_kl_weights=kl_weights,
             )
 
             # Optimize the entropy coefficient (alpha, the "temperature")
@@ -439,12 +447,17 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 self.logger.record("train/ent_coef_loss", _mean(ent_coef_losses))
         self._record_policy_logs()
 
-    def _actor_pass(self, observations: Any, prior_kl: float) -> tuple[th.Tensor, th.Tensor | None]:
+    def _actor_pass(
+        self, observations: Any, prior_kl: float
+    ) -> tuple[th.Tensor, th.Tensor | None, th.Tensor | None]:
         """The actor's logits and, when the prior KL term is on (``prior_kl`` > 0, progressive
-        policies), the log-probabilities of the frozen priors' own policy from the same pass."""
+        policies), the log-probabilities of the frozen priors' own policy from the same pass
+        and the term's per-sample weights (None: every sample weighs 1)."""
         if prior_kl > 0:
-            return self.actor.logits_and_prior_log_probs(observations)  # type: ignore[attr-defined]
-        return self.actor(observations), None
+            actor = self.actor
+            logits, prior_log_probs = actor.logits_and_prior_log_probs(observations)  # type: ignore[attr-defined]
+            return logits, prior_log_probs, actor.prior_kl_weights(observations)  # type: ignore[attr-defined]
+        return self.actor(observations), None, None
 
     def _record_policy_logs(self) -> None:
         """The policy's own training figures (e.g. SPNN's gate), when it reports any."""

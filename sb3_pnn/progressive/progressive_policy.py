@@ -46,6 +46,26 @@ from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
 from sb3_pnn.safe_io.policy_registry import register_policy_class
 
+#: The sonar observation the KL term's clearance reads: key and range (m), rov_envs' own.
+SONAR_KEY, SONAR_RANGE = "sonar", 25.0
+
+
+def _checked_clearance(clearance: Any, observation_space: spaces.Space) -> float | None:
+    """``prior_kl_clearance`` as a float (None stays None); refuses a bad distance or an
+    observation without the sonar it reads."""
+    if clearance is None:
+        return None
+    if not is_finite_number(clearance) or clearance <= 0:
+        raise ValueError(
+            f"prior_kl_clearance must be a distance > 0 (m) or None, got {clearance!r}"
+        )
+    if not isinstance(observation_space, spaces.Dict) or SONAR_KEY not in observation_space.spaces:
+        raise ValueError(
+            f"prior_kl_clearance={clearance!r} reads the nearest obstacle from a {SONAR_KEY!r} "
+            f"observation key, which this observation space lacks: {observation_space}"
+        )
+    return float(clearance)
+
 
 def _lateral_weights(
     gate: nn.Module | None, sigma: float, pre: Any, features: th.Tensor
@@ -74,6 +94,7 @@ class ProgressiveActor(BasePolicy):
         sigma: float = 1.0,
         own_weight: float = 1.0,
         normalize_images: bool = True,
+        kl_gate: DistanceGate | None = None,
     ):
         super().__init__(
             observation_space,
@@ -81,6 +102,7 @@ class ProgressiveActor(BasePolicy):
             features_extractor=features_extractor,
             normalize_images=normalize_images,
         )
+        self.kl_gate = kl_gate
         self.features_dim = features_dim
         self.net = net
         self.feeds = list(feeds)
@@ -124,6 +146,14 @@ class ProgressiveActor(BasePolicy):
             mixed = stacked.mean(dim=1) if g is None else (g.unsqueeze(2) * stacked).sum(dim=1)
             prior_log_probs = F.log_softmax(mixed, dim=1)
         return logits, prior_log_probs
+
+    def prior_kl_weights(self, obs: PyTorchObs) -> th.Tensor | None:
+        """Per-sample weights (B,) of the KL term toward pi_0: 1 where the nearest obstacle is
+        farther than the policy's ``prior_kl_clearance``, 0 where it is nearer (eq. 15's switch
+        with that distance); None: the term weighs every sample."""
+        if self.kl_gate is None:
+            return None
+        return self.kl_gate(obs)[:, 0]
 
     def _count_leads(self, g: th.Tensor) -> None:
         # Rollout steps are predicted in eval mode; the actor-loss pass is a training pass with
@@ -254,6 +284,10 @@ class ProgressivePolicy(DiscreteSACPolicy):
         its priors do where reward does not say otherwise (not in the paper; 0: off). With
         alpha the entropy coefficient, the actor's optimum becomes
         pi ~ pi_0^(beta / (alpha + beta)) exp(Q / (alpha + beta))
+    :param prior_kl_clearance: With a distance in metres, the KL term counts only on samples
+        whose nearest obstacle (the ``sonar`` observation, eq. 15's d) is farther than it: a
+        path-following prior has never seen an obstacle, so its policy is the reference only
+        where none is near (not in the paper; None: every sample). Needs a ``sonar`` key
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -282,11 +316,13 @@ class ProgressivePolicy(DiscreteSACPolicy):
         start_as_prior: bool = False,
         init_from_prior: bool = False,
         prior_kl: float = 0.0,
+        prior_kl_clearance: float | None = None,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         if not is_finite_number(prior_kl) or prior_kl < 0:
             raise ValueError(f"prior_kl must be a finite number >= 0, got {prior_kl!r}")
         self.prior_kl = float(prior_kl)
+        self.prior_kl_clearance = _checked_clearance(prior_kl_clearance, observation_space)
         if features_extractor_class is None:
             features_extractor_class = (
                 CombinedExtractor
@@ -367,7 +403,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         return 1.0, 1.0
 
     def _progressive_kwargs(self) -> dict[str, Any]:
-        return dict(
+        kwargs = dict(
             learn_lateral_scale=self.learn_lateral_scale,
             lateral_scale_init=self.lateral_scale_init,
             critic_priors=self.critic_priors,
@@ -375,6 +411,9 @@ class ProgressivePolicy(DiscreteSACPolicy):
             init_from_prior=self.init_from_prior,
             prior_kl=self.prior_kl,
         )
+        if self.prior_kl_clearance is not None:  # named only when set (the SPNN never sets it)
+            kwargs["prior_kl_clearance"] = self.prior_kl_clearance
+        return kwargs
 
     # --- networks -------------------------------------------------------------------------
     def _columns(self, role: str, index: int = 0) -> list[FrozenColumn]:
@@ -459,6 +498,11 @@ class ProgressivePolicy(DiscreteSACPolicy):
             sigma=sigma,
             own_weight=own,
             normalize_images=self.normalize_images,
+            kl_gate=(
+                None
+                if self.prior_kl_clearance is None
+                else DistanceGate("hard", self.prior_kl_clearance, SONAR_RANGE, SONAR_KEY)
+            ),
         )
         return actor.to(self.device)
 

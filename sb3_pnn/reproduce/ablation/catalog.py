@@ -109,6 +109,12 @@ NOT_ABLATED: dict[str, str] = {
     "pnn_n_steps": _ONLY_PNN
     + "by retraining the 5-seed study's ten PNN runs with n = 8 (docs/ablation/README.md, "
     "section 12)",
+    "pnn_prior_kl_clearance": _ONLY_PNN
+    + "beside pnn_prior_kl, by retraining the 5-seed study's PNN runs (docs/ablation/README.md, "
+    "section 13)",
+    "pnn_n_steps_sine": _ONLY_PNN
+    + "beside pnn_n_steps, whose value it replaces on the sine path (docs/ablation/README.md, "
+    "section 12)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

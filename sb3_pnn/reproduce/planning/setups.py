@@ -87,10 +87,13 @@ Factors:
   :class:`sb3_pnn.ProgressivePolicy`): the new policy stays near what its priors do where
   reward does not pay for more (not in the paper: 0; ours: 1 for SPNN, which kept the priors'
   route keeping and avoidance, 0 for PNN, whose single path-following prior knows no
-  avoidance). Only SPNN / PNN runs read them.
+  avoidance). Only SPNN / PNN runs read them. ``pnn_prior_kl_clearance`` (m) limits PNN's term to
+  the samples whose nearest obstacle is farther than it, where its path-following prior's policy
+  applies (``prior_kl_clearance`` of :class:`sb3_pnn.ProgressivePolicy`; None: every sample).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
+  ``pnn_n_steps_sine`` gives PNN's runs on the sine path their own n (None: ``pnn_n_steps``).
 * ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
@@ -208,8 +211,10 @@ class TrainingSetup:
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
     pnn_prior_kl: float = 0.0
+    pnn_prior_kl_clearance: float | None = None
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
+    pnn_n_steps_sine: int | None = None
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -241,6 +246,14 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
                     + (" (0: as batch_size)" if low == 0 else "")
                 )
+        sine_n = self.pnn_n_steps_sine
+        if sine_n is not None and (
+            isinstance(sine_n, bool) or not isinstance(sine_n, int) or sine_n < 1
+        ):
+            raise ValueError(
+                f"pnn_n_steps_sine={sine_n!r} is not allowed: expected an integer >= 1, or None "
+                "for pnn_n_steps's value"
+            )
         if self.prior_candidates > 1 and not self.keep_best:
             raise ValueError(
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
@@ -287,6 +300,12 @@ class TrainingSetup:
             raise ValueError(
                 f"pf_start_spread={spread!r} is not allowed: expected a number in [0, 30] (a "
                 "multiple of 1 m and 5 deg), or None for train_start_noise's value"
+            )
+        clearance = self.pnn_prior_kl_clearance
+        if clearance is not None and not (is_finite_number(clearance) and clearance > 0):
+            raise ValueError(
+                f"pnn_prior_kl_clearance={clearance!r} is not allowed: expected a distance > 0 "
+                "(m), or None for every sample"
             )
         sine_init = self.pnn_lateral_init_sine
         if sine_init is not None and not is_finite_number(sine_init):
@@ -432,7 +451,13 @@ class TrainingSetup:
         for name, (reader, key) in AGENT_FACTORS.items():  # written always: the policies'
             if agent == reader:  # own defaults are the recommended set-up's, not the paper's
                 kwargs["policy_kwargs"][key] = self._policy_value(name, path)[0]
-        n_steps = {"spnn": self.spnn_n_steps, "pnn": self.pnn_n_steps}.get(agent, 1)
+        clearance = self.pnn_prior_kl_clearance
+        if agent == "pnn" and clearance is not None and self.pnn_prior_kl > 0:
+            # named only when it acts, so runs without the term keep their hash
+            kwargs["policy_kwargs"]["prior_kl_clearance"] = float(clearance)
+        n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
+        if agent == "pnn":
+            n_steps = self.pnn_n_steps_of(path)
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
             kwargs["n_steps"] = n_steps
         gate = self.spnn_gate_of(path) if agent == "spnn" else "hard"
@@ -441,6 +466,19 @@ class TrainingSetup:
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         return kwargs
+
+    def pnn_n_steps_of(self, path: str) -> int:
+        """PNN's return length n on planning path ``path`` (``pnn_n_steps_sine`` on the sine
+        path when set, else ``pnn_n_steps``)."""
+        sine_n = self.pnn_n_steps_sine
+        if sine_n is None or sine_n == self.pnn_n_steps:
+            return self.pnn_n_steps
+        if path not in ("straight", "sine"):
+            raise ValueError(
+                f"pnn_n_steps_sine={sine_n!r} depends on the path: expected path='straight' "
+                "or 'sine'"
+            )
+        return sine_n if path == "sine" else self.pnn_n_steps
 
     def spnn_gate_of(self, path: str) -> str:
         """The SPNN's gate on planning path ``path`` (``spnn_gate_sine`` on the sine path when
@@ -562,6 +600,10 @@ OURS = TrainingSetup(
     spnn_own_weight=1.0,
     spnn_prior_kl=DEFAULT_PRIOR_KL,
     spnn_gate_sine="soft",
+    pnn_prior_kl=1.0,
+    pnn_prior_kl_clearance=PAPER_D_TH,
+    pnn_n_steps=8,
+    pnn_n_steps_sine=1,
     goal_obs=True,
     goal_distance=25.0,
     heading_rule="goal",
@@ -602,7 +644,9 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
+    "pnn_n_steps_sine": "PNN critics' return length n on the sine path",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
+    "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "pnn_goal_obs": "PNN observes the goal part too",
     "goal_distance": "goal: route point ahead (m)",
@@ -631,9 +675,11 @@ def describe_value(name: str, value: Any) -> str:
         return "as the samples per update"
     if name == "pf_start_spread" and value is None:
         return "as the training start noise"
+    if name == "pnn_prior_kl_clearance" and value is None:
+        return "every sample"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
-    if name in ("pnn_lateral_init_sine", "spnn_gate_sine") and value is None:
+    if name in ("pnn_lateral_init_sine", "spnn_gate_sine", "pnn_n_steps_sine") and value is None:
         return "as on the straight path"
     if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
@@ -694,6 +740,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             ok = isinstance(value, int) and not isinstance(value, bool)
         elif name == "spnn_gate_sine":  # a gate's name, or null for spnn_gate's
             ok = value is None or isinstance(value, str)
+        elif name == "pnn_n_steps_sine":  # a length, or null for pnn_n_steps's
+            ok = value is None or (isinstance(value, int) and not isinstance(value, bool))
         elif default is None:  # a number, or null for "as the factor it refines"
             ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
             value = float(value) if ok and value is not None else value
@@ -707,6 +755,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
                 example = "1.0 (a number, or null)"
             if name == "spnn_gate_sine":
                 example = "soft (a gate's name, or null)"
+            if name == "pnn_n_steps_sine":
+                example = "1 (an integer, or null)"
             raise ValueError(
                 f"--set {item!r} is not allowed: expected a value like {name}={example}"
             )

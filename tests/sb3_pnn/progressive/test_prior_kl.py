@@ -111,3 +111,47 @@ def test_zero_takes_the_plain_path_and_the_weight_is_saved(priors, tmp_path, mon
     assert DiscreteSAC.load(tmp_path / "spnn.zip", device="cpu").policy.prior_kl == 2.5
     with pytest.raises(ValueError, match="prior_kl must be a finite number >= 0, got -1"):
         _spnn(priors, prior_kl=-1)
+
+
+def _pnn(paths, **kwargs):
+    kw = dict(priors=[paths["pf_dsac"]], net_arch=[16, 16], prior_kl=1.0)
+    kw.update(kwargs)
+    return toy_model(ProgressivePolicy, kw)
+
+
+def test_clearance_weighs_only_the_samples_with_no_obstacle_near(priors, tmp_path):
+    """prior_kl_clearance = c: the KL term's weight is 1 where the nearest obstacle is farther
+    than c metres, 0 where it is nearer; the term is beta * mean(w * KL); the clearance is saved
+    with the model; without it every sample weighs 1 (and the SPNN never names it)."""
+    model = _pnn(priors, prior_kl_clearance=12.5)
+    obs = near_far_batch(model.observation_space)
+    weights = model.policy.actor.prior_kl_weights(obs_tensor(model.policy, obs))
+    assert weights.tolist() == (NEAR_DISTANCES > 12.5).astype(float).tolist()
+
+    gen = th.Generator().manual_seed(1)
+    logits = th.randn(len(NEAR_DISTANCES), 5, generator=gen)
+    reference = F.log_softmax(th.randn(len(NEAR_DISTANCES), 5, generator=gen), dim=1)
+    q = (th.zeros_like(logits), th.zeros_like(logits))
+    common = dict(target_q_values=th.zeros(5, 1), actions=th.zeros(5, 1), ent_coef=0.2)
+    plain = discrete_sac_losses(logits, q, **common).actor_loss
+    weighted = discrete_sac_losses(
+        logits, q, **common, prior_log_probs=reference, prior_kl=2.0, prior_kl_weights=weights
+    ).actor_loss
+    log_pi = F.log_softmax(logits, dim=1)
+    per_sample = (log_pi.exp() * (log_pi - reference)).sum(dim=1)
+    expected = plain + 2.0 * (per_sample * weights).mean()
+    assert weighted.item() == pytest.approx(expected.item(), rel=1e-6)
+
+    model.learn(60)  # the weighted term trains
+    model.save(tmp_path / "pnn.zip")
+    loaded = DiscreteSAC.load(tmp_path / "pnn.zip", device="cpu").policy
+    assert loaded.prior_kl_clearance == 12.5
+    assert th.equal(loaded.actor.prior_kl_weights(obs_tensor(loaded, obs)), weights)
+    assert _pnn(priors).policy.actor.prior_kl_weights(obs_tensor(model.policy, obs)) is None
+    assert "prior_kl_clearance" not in _spnn(priors).policy._get_constructor_parameters()
+
+
+@pytest.mark.parametrize("bad", [0.0, -3.0, float("nan"), "far"])
+def test_bad_clearance_is_refused(priors, bad):
+    with pytest.raises(ValueError, match=r"prior_kl_clearance must be a distance > 0"):
+        _pnn(priors, prior_kl_clearance=bad)

@@ -7,6 +7,7 @@ import json
 import pytest
 
 from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+from sb3_pnn.reproduce.planning.setups import PAPER, describe_value, parse_setup_changes
 from sb3_pnn.reproduce.running.store import RunStore, StudyConflictError
 
 
@@ -236,7 +237,7 @@ def test_n_step_targets_reach_only_their_agents_runs() -> None:
     spec only when it is not 1 (runs made before the factors existed keep their hash)."""
 
     def plan(spnn: int, pnn: int) -> dict:
-        changes = (("spnn_n_steps", spnn), ("pnn_n_steps", pnn))
+        changes = (("spnn_n_steps", spnn), ("pnn_n_steps", pnn), ("pnn_n_steps_sine", None))
         config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)
         return {s.run_id: s for s in build_plan(config)}
 
@@ -249,7 +250,53 @@ def test_n_step_targets_reach_only_their_agents_runs() -> None:
     assert {s.sac_kwargs.get("n_steps") for s in plan(1, 3).values() if s.agent == "pnn"} == {3}
 
 
-@pytest.mark.parametrize("factor", ["spnn_n_steps", "pnn_n_steps"])
+def test_pnn_n_steps_sine_replaces_pnn_n_steps_on_the_sine_path_only() -> None:
+    """pnn_n_steps_sine: PNN's n on the sine path; its straight-path runs keep pnn_n_steps,
+    and a sine-path n of 1 leaves those runs' specs as one-step targets make them."""
+    changes = parse_setup_changes(["pnn_n_steps=8", "pnn_n_steps_sine=1"])
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=tuple(changes.items()))
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    for spec in build_plan(config):
+        if spec.agent == "pnn":
+            path = spec.run_id.split("-")[1]
+            assert spec.sac_kwargs.get("n_steps") == (8 if path == "straight" else None)
+        if spec.agent != "pnn" or "sine" in spec.run_id:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    with pytest.raises(ValueError, match=r"pnn_n_steps_sine=2.*depends on the path"):
+        PAPER.with_(pnn_n_steps_sine=2).sac_kwargs(agent="pnn")
+    with pytest.raises(ValueError, match=r"pnn_n_steps_sine=true' is not allowed.*an integer"):
+        parse_setup_changes(["pnn_n_steps_sine=true"])
+    assert describe_value("pnn_n_steps_sine", None) == "as on the straight path"
+
+
+def test_pnn_prior_kl_clearance_reaches_only_pnn_runs_when_set() -> None:
+    """pnn_prior_kl_clearance: PNN's policy keyword prior_kl_clearance, named only when set
+    (runs made before the factor existed keep their hash); no other run changes."""
+    unset = (("pnn_prior_kl", 1.0), ("pnn_prior_kl_clearance", None))
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=unset)
+    plain = {s.run_id: s for s in build_plan(config)}
+    changes = (("pnn_prior_kl", 1.0), ("pnn_prior_kl_clearance", 8.0))
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        policy_kwargs = spec.sac_kwargs.get("policy_kwargs", {})
+        if spec.agent == "pnn":
+            assert policy_kwargs["prior_kl_clearance"] == 8.0
+            assert policy_kwargs["prior_kl"] == 1.0
+        else:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all(
+        "prior_kl_clearance" not in s.sac_kwargs.get("policy_kwargs", {}) for s in plain.values()
+    )
+    no_term = (("pnn_prior_kl", 0.0), ("pnn_prior_kl_clearance", 8.0))
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=no_term)):
+        assert "prior_kl_clearance" not in spec.sac_kwargs.get("policy_kwargs", {})
+    for bad in (0, -1.0):
+        with pytest.raises(ValueError, match="pnn_prior_kl_clearance"):
+            StudyConfig(
+                budget_name="tiny", seeds=1, setup_changes=(("pnn_prior_kl_clearance", bad),)
+            )
+
+
+@pytest.mark.parametrize("factor", ["spnn_n_steps", "pnn_n_steps", "pnn_n_steps_sine"])
 @pytest.mark.parametrize("value", [0, -2, 2.5])
 def test_bad_n_steps_is_refused(factor, value) -> None:
     with pytest.raises(ValueError, match=factor):
