@@ -46,7 +46,8 @@ from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
 from sb3_pnn.safe_io.policy_registry import register_policy_class
 
-#: The sonar observation the KL term's clearance reads: key and range (m), rov_envs' own.
+#: The sonar observation key and range (m) that obstacle distances are read from (rov_envs'
+#: own; sonar sectors are distance / range): the KL term's clearance here, SPNN's gate too.
 SONAR_KEY, SONAR_RANGE = "sonar", 25.0
 
 

@@ -42,7 +42,7 @@ from torch import nn
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate
 from sb3_pnn.progressive.prior_loading import PriorSpec
-from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
+from sb3_pnn.progressive.progressive_policy import SONAR_KEY, SONAR_RANGE, ProgressivePolicy
 from sb3_pnn.safe_io.policy_registry import register_policy_class
 
 PRIOR_NAMES = ("path_following", "obstacle_avoidance")
@@ -61,7 +61,7 @@ DEFAULT_OWN_WEIGHT = 1.0
 DEFAULT_PRIOR_KL = 1.0
 
 
-def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = "sonar") -> None:
+def check_prior_order(specs: Sequence[PriorSpec], sonar_key: str = SONAR_KEY) -> None:
     """Refuse priors given in the wrong order: the path-following column comes first and does not
     observe the sonar, the obstacle-avoidance column second and does (their observation spaces
     tell them apart; a gate fed the swapped columns would silently hand obstacles to the
@@ -121,8 +121,8 @@ class SelectivePolicy(ProgressivePolicy):
         sigma: float = DEFAULT_SIGMA,
         own_weight: float = DEFAULT_OWN_WEIGHT,
         d_th: float = PAPER_D_TH,
-        sonar_range: float = 25.0,
-        sonar_key: str = "sonar",
+        sonar_range: float = SONAR_RANGE,
+        sonar_key: str = SONAR_KEY,
         gate: str = "hard",
         temperature: float = 1.0,
         gate_hidden: int = 32,

@@ -85,11 +85,11 @@ Factors:
 * ``spnn_prior_kl``, ``pnn_prior_kl``: weight beta of KL(pi || pi_0) in the actor's loss, pi_0
   the frozen priors' own policy (the SPNN's gate-selected prior; ``prior_kl`` of
   :class:`sb3_pnn.ProgressivePolicy`): the new policy stays near what its priors do where
-  reward does not pay for more (not in the paper: 0; ours: 1 for SPNN, which kept the priors'
-  route keeping and avoidance, 0 for PNN, whose single path-following prior knows no
-  avoidance). Only SPNN / PNN runs read them. ``pnn_prior_kl_clearance`` (m) limits PNN's term to
-  the samples whose nearest obstacle is farther than it, where its path-following prior's policy
-  applies (``prior_kl_clearance`` of :class:`sb3_pnn.ProgressivePolicy`; None: every sample).
+  reward does not pay for more (not in the paper: 0; ours: 1 for both). Only SPNN / PNN runs
+  read them. ``pnn_prior_kl_clearance`` (m) limits PNN's term to the samples whose nearest
+  obstacle is farther than it, where its path-following prior, which knows no avoidance,
+  applies (``prior_kl_clearance`` of :class:`sb3_pnn.ProgressivePolicy`; None: every sample;
+  ours: d_th, 12.5 m).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -456,8 +456,7 @@ class TrainingSetup:
             # named only when it acts, so runs without the term keep their hash
             kwargs["policy_kwargs"]["prior_kl_clearance"] = float(clearance)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
-        if agent == "pnn":
-            n_steps = self.pnn_n_steps_of(path)
+        n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
             kwargs["n_steps"] = n_steps
         gate = self.spnn_gate_of(path) if agent == "spnn" else "hard"

@@ -155,3 +155,19 @@ def test_clearance_weighs_only_the_samples_with_no_obstacle_near(priors, tmp_pat
 def test_bad_clearance_is_refused(priors, bad):
     with pytest.raises(ValueError, match=r"prior_kl_clearance must be a distance > 0"):
         _pnn(priors, prior_kl_clearance=bad)
+
+
+def test_clearance_needs_a_sonar_observation():
+    """The clearance reads the nearest obstacle from the ``sonar`` key; an observation without
+    one is refused by name before any network is built."""
+    from gymnasium import spaces
+
+    from sb3_pnn.progressive.progressive_policy import _checked_clearance
+
+    box = spaces.Box(-1.0, 1.0, (3,))
+    with pytest.raises(ValueError, match=r"prior_kl_clearance=12.5 reads .*'sonar'.*lacks"):
+        _checked_clearance(12.5, box)
+    with pytest.raises(ValueError, match=r"lacks"):
+        _checked_clearance(12.5, spaces.Dict({"path": box}))
+    assert _checked_clearance(None, box) is None
+    assert _checked_clearance(8, spaces.Dict({"sonar": box})) == 8.0
