@@ -123,10 +123,16 @@ class LocalPool:
         return list(done)
 
     def outcome(self, handle: Future, spec: RunSpec) -> tuple[str, str]:
-        """(status, error) of a finished run: "done", "kept_existing" or "failed"."""
+        """(status, error) of a finished run: "done", "kept_existing" or "failed".
+
+        A worker that died after its commit (Ctrl-C reaches the workers too, and one interrupted
+        while it sends its result back breaks the pool) still finished its run: the store, not
+        the lost report, decides."""
         try:
             _, status, error = handle.result()
         except BaseException as exc:  # noqa: BLE001 - a worker died
+            if self.store.manifest(spec.run_id) is not None:
+                return "done", ""
             status, error = "failed", f"worker process failed: {exc!r}"
             self.store.fail(spec, None, error)
         return status, error
@@ -193,6 +199,19 @@ class _Schedule:
             self.finished.add(run_id)
             self.summary.done.append(run_id)
         self.bar.update(1)
+
+    def count_committed(self, store: RunStore) -> None:
+        """After Ctrl-C: count as done every run of this invocation that the store holds
+        committed, also one whose report the interrupt cut off (between a worker's commit and
+        the bookkeeping here), so that the session counts what it left behind."""
+        for run_id in self.by_id:
+            if run_id in self.finished or store.manifest(run_id) is None:
+                continue
+            self.summary.failed.pop(run_id, None)
+            self.finished.add(run_id)
+            self.summary.done.append(run_id)
+            for handle in [h for h, running_id in self.running.items() if running_id == run_id]:
+                del self.running[handle]
 
 
 def _check_plan(plan: list[RunSpec], jobs: int) -> None:
@@ -270,6 +289,7 @@ def execute(
         for handle in ended(list(schedule.running)) if ended is not None else []:
             run_id = schedule.running.pop(handle)
             schedule.settle(run_id, *pool.outcome(handle, schedule.by_id[run_id]))
+        schedule.count_committed(store)
     finally:
         schedule.bar.close()
     schedule.summary.wall_s = time.time() - start

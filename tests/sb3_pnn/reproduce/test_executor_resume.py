@@ -8,6 +8,8 @@ import signal
 import subprocess
 import sys
 import time
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 import pytest
@@ -15,7 +17,7 @@ from reproduce_helpers import failing_prior_work, fake_work
 
 from sb3_pnn.reproduce.cli import main
 from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
-from sb3_pnn.reproduce.running.executor import execute
+from sb3_pnn.reproduce.running.executor import LocalPool, execute, run_one
 from sb3_pnn.reproduce.running.store import RunStore
 
 HERE = Path(__file__).parent
@@ -155,6 +157,58 @@ def test_ctrl_c_records_the_session_and_the_same_command_resumes(tmp_path) -> No
     assert len(_snapshot(out)) == len(plan)
     assert "stopped" in (out / "report.md").read_text()  # the report names the stopped session
     assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
+
+
+class _CommitThenInterruptPool:
+    """A pool whose runs commit at once, in this process, and whose wait is interrupted (as by
+    Ctrl-C) before it reports any of them: the window between a worker's commit and the
+    executor's bookkeeping."""
+
+    def __init__(self, store: RunStore) -> None:
+        self.store = store
+
+    def submit(self, spec):
+        return run_one(fake_work, spec.to_dict(), os.fspath(self.store.out))
+
+    def wait(self, handles):
+        raise KeyboardInterrupt
+
+    def close(self) -> None:
+        pass
+
+
+def test_ctrl_c_counts_runs_committed_before_their_report(tmp_path) -> None:
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    store = RunStore(tmp_path)
+    store.open()
+    summary = execute(
+        plan, store, fake_work, jobs=2, quiet=True, pool=_CommitThenInterruptPool(store)
+    )
+    store.close()
+    assert summary.stopped
+    assert len(summary.done) == 2 and sorted(summary.done) == sorted(_snapshot(tmp_path))
+
+
+def test_a_worker_that_died_after_its_commit_counts_its_run_done(tmp_path) -> None:
+    """A worker interrupted while it sends its result back breaks the pool after committing:
+    the run is done, and no failure is recorded for it."""
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    spec = plan[0]
+    store = RunStore(tmp_path)
+    store.open()
+    pool = LocalPool(store, fake_work, jobs=1)
+    try:
+        run_one(fake_work, spec.to_dict(), os.fspath(tmp_path))
+        broken: Future = Future()
+        broken.set_exception(BrokenProcessPool("a worker ended abruptly"))
+        assert pool.outcome(broken, spec) == ("done", "")
+        assert store.failures() == {}
+        other = plan[1]
+        assert pool.outcome(broken, other)[0] == "failed"  # not committed: a real failure
+        assert other.run_id in store.failures()
+    finally:
+        pool.close()
+        store.close()
 
 
 def test_eta_counts_episodes_not_runs(tmp_path, monkeypatch) -> None:
