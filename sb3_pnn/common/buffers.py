@@ -13,15 +13,32 @@ float64 and rounded to float32, where SB3 computes it in float32, so the last bi
 ``DiscreteSAC`` picks this buffer by itself for a
 ``Dict`` observation space with ``n_steps > 1``; the critic target then reads
 ``y = R_t + (1 - done) gamma^m V(s')`` (``soft_td_target`` with the sample's discounts).
+
+With ``step_successors`` set, a sample also carries the one-step successor s_{t+1} of each s_t
+(:class:`DictNStepReplayBufferSamples`), which a loss comparing consecutive states reads (the
+actor's temporal smoothness term, ``ProgressivePolicy(action_smoothness=...)``).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
+import torch as th
 from stable_baselines3.common.buffers import DictReplayBuffer
-from stable_baselines3.common.type_aliases import DictReplayBufferSamples
+from stable_baselines3.common.type_aliases import DictReplayBufferSamples, TensorDict
+
+
+class DictNStepReplayBufferSamples(NamedTuple):
+    """SB3's ``DictReplayBufferSamples`` and the one-step successors s_{t+1}."""
+
+    observations: TensorDict
+    actions: th.Tensor
+    next_observations: TensorDict
+    dones: th.Tensor
+    rewards: th.Tensor
+    discounts: th.Tensor | None
+    step_next_observations: TensorDict
 
 
 def n_step_window(
@@ -68,7 +85,11 @@ class DictNStepReplayBuffer(DictReplayBuffer):
 
     :param n_steps: the return's length n (>= 1; 1 samples one-step transitions)
     :param gamma: the discount of the return and of the bootstrap
+
+    :attr:`step_successors` (default False): samples also carry s_{t+1} (module docstring).
     """
+
+    step_successors: bool = False
 
     def __init__(self, *args: Any, n_steps: int = 3, gamma: float = 0.99, **kwargs: Any) -> None:
         if not (
@@ -86,7 +107,7 @@ class DictNStepReplayBuffer(DictReplayBuffer):
 
     def _get_samples(  # type: ignore[override]
         self, batch_inds: np.ndarray, env: Any = None
-    ) -> DictReplayBufferSamples:
+    ) -> DictReplayBufferSamples | DictNStepReplayBufferSamples:
         # numpy's global generator, as SB3's buffers (seeded by the algorithm's set_random_seed)
         env_indices = np.random.randint(0, high=self.n_envs, size=(len(batch_inds),))  # noqa: NPY002
         returns, discounts, next_rows, dones = n_step_window(
@@ -99,11 +120,20 @@ class DictNStepReplayBuffer(DictReplayBuffer):
             {key: o[next_rows, env_indices, :] for key, o in self.next_observations.items()}, env
         )
         assert isinstance(obs, dict) and isinstance(next_obs, dict)
-        return DictReplayBufferSamples(
+        samples = DictReplayBufferSamples(
             observations={key: self.to_torch(o) for key, o in obs.items()},
             actions=self.to_torch(self.actions[batch_inds, env_indices]),
             next_observations={key: self.to_torch(o) for key, o in next_obs.items()},
             dones=self.to_torch(dones),
             rewards=self.to_torch(self._normalize_reward(returns, env)),
             discounts=self.to_torch(discounts),
+        )
+        if not self.step_successors:
+            return samples
+        step_next = self._normalize_obs(
+            {key: o[batch_inds, env_indices, :] for key, o in self.next_observations.items()}, env
+        )
+        assert isinstance(step_next, dict)
+        return DictNStepReplayBufferSamples(
+            *samples, step_next_observations={k: self.to_torch(o) for k, o in step_next.items()}
         )

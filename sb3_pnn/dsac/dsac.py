@@ -127,6 +127,8 @@ def discrete_sac_losses(
     prior_log_probs: th.Tensor | None = None,
     prior_kl: float = 0.0,
     prior_kl_weights: th.Tensor | None = None,
+    next_logits: th.Tensor | None = None,
+    action_smoothness: float = 0.0,
 ) -> DiscreteSACLosses:
     """
     Critic, actor and entropy-coefficient losses of discrete SAC (see the module docstring).
@@ -146,6 +148,9 @@ def discrete_sac_losses(
         gradient; with ``prior_kl`` = beta > 0 the actor loss adds beta * KL(pi || pi_0)
     :param prior_kl_weights: (B,) weights of each sample's KL term (None: all 1); the term is
         then beta * mean_s(w(s) KL(pi(.|s) || pi_0(.|s)))
+    :param next_logits: actor logits at the successor s' of each s, (B, n_actions), with
+        gradient; with ``action_smoothness`` = lambda > 0 the actor loss adds
+        lambda * mean_s KL(pi(.|s) || pi(.|s')), CAPS's temporal term (Mysore et al. 2021)
     """
     log_probs = F.log_softmax(logits, dim=1)
     probs = log_probs.exp()
@@ -160,6 +165,9 @@ def discrete_sac_losses(
         if prior_kl_weights is not None:
             kl = kl * prior_kl_weights
         actor_loss = actor_loss + prior_kl * kl.mean()
+    if next_logits is not None and action_smoothness > 0:
+        temporal_kl = (probs * (log_probs - F.log_softmax(next_logits, dim=1))).sum(dim=1)
+        actor_loss = actor_loss + action_smoothness * temporal_kl.mean()
 
     # E_s[sum_a pi log pi] = -E_s[H(pi(.|s))], no gradient to the actor
     neg_entropy = (probs * log_probs).sum(dim=1).mean().detach()
@@ -336,6 +344,15 @@ class DiscreteSAC(OffPolicyAlgorithm):
             super()._setup_model()
         if not isinstance(self.policy, DiscreteSACPolicy):
             raise NotADiscreteSACPolicyError(self.policy)
+        smoothness = getattr(self.policy, "action_smoothness", 0.0)
+        if smoothness > 0 and self.n_steps > 1:
+            if not isinstance(self.replay_buffer, DictNStepReplayBuffer):
+                raise ValueError(
+                    f"action_smoothness={smoothness!r} compares pi(.|s) with pi(.|s_t+1), which "
+                    f"{type(self.replay_buffer).__name__} with n_steps={self.n_steps} does not "
+                    "sample: expected n_steps=1, a Dict observation (DictNStepReplayBuffer) or "
+                    "action_smoothness=0"
+                )
         portable_kwargs = getattr(self.policy, "portable_policy_kwargs", None)
         if callable(portable_kwargs):
             self.policy_kwargs = portable_kwargs()
@@ -370,6 +387,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
 
         critic_params, target_params = self._polyak_params()
         prior_kl = float(getattr(self.policy, "prior_kl", 0.0))
+        smoothness = float(getattr(self.policy, "action_smoothness", 0.0))
+        if smoothness > 0 and isinstance(self.replay_buffer, DictNStepReplayBuffer):
+            self.replay_buffer.step_successors = True  # its s' is s_t+n; s_t+1 comes beside it
         # Detached tensors, turned into floats once after the loop (no sync per step)
         ent_coef_losses, ent_coefs, entropies = [], [], []
         actor_losses, critic_losses = [], []
@@ -384,9 +404,19 @@ class DiscreteSAC(OffPolicyAlgorithm):
             else:
                 ent_coef = self.ent_coef_tensor
 
+            # the successor's logits with gradient only when the smoothness term reads them
+            # (the TD target then uses the same values, detached)
+            successors = getattr(replay_data, "step_next_observations", None)
+            step_logits = None  # the actor at s_t+1, for the smoothness term
+            if smoothness > 0:
+                step_logits = self.actor(
+                    replay_data.next_observations if successors is None else successors
+                )
             with th.no_grad():
                 target_q_values = soft_td_target(
-                    self.actor(replay_data.next_observations),
+                    step_logits.detach()
+                    if step_logits is not None and successors is None
+                    else self.actor(replay_data.next_observations),
                     self.critic_target(replay_data.next_observations),
                     replay_data.rewards,
                     replay_data.dones,
@@ -408,6 +438,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 prior_log_probs=prior_log_probs,
                 prior_kl=prior_kl,
                 prior_kl_weights=kl_weights,
+                next_logits=step_logits,
+                action_smoothness=smoothness,
             )
 
             # Optimize the entropy coefficient (alpha, the "temperature")

@@ -289,6 +289,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         whose nearest obstacle (the ``sonar`` observation, eq. 15's d) is farther than it: a
         path-following prior has never seen an obstacle, so its policy is the reference only
         where none is near (not in the paper; None: every sample). Needs a ``sonar`` key
+    :param action_smoothness: Weight lambda of a temporal smoothness term
+        lambda * E[KL(pi(.|s) || pi(.|s'))] over replayed transitions (s, s') added to the
+        actor's loss: CAPS's temporal term (Mysore et al. 2021, "Regularizing action policies
+        for smooth control") for a categorical policy. It discourages a policy that turns left
+        on one control step and right on the next (not in the paper; 0: off). With n-step
+        returns it needs a ``Dict`` observation, whose replay buffer samples s_t+1 beside s_t+n
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -318,11 +324,14 @@ class ProgressivePolicy(DiscreteSACPolicy):
         init_from_prior: bool = False,
         prior_kl: float = 0.0,
         prior_kl_clearance: float | None = None,
+        action_smoothness: float = 0.0,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
-        if not is_finite_number(prior_kl) or prior_kl < 0:
-            raise ValueError(f"prior_kl must be a finite number >= 0, got {prior_kl!r}")
+        for name, value in (("prior_kl", prior_kl), ("action_smoothness", action_smoothness)):
+            if not is_finite_number(value) or value < 0:
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
         self.prior_kl = float(prior_kl)
+        self.action_smoothness = float(action_smoothness)
         self.prior_kl_clearance = _checked_clearance(prior_kl_clearance, observation_space)
         if features_extractor_class is None:
             features_extractor_class = (
@@ -414,6 +423,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
         )
         if self.prior_kl_clearance is not None:  # named only when set (the SPNN never sets it)
             kwargs["prior_kl_clearance"] = self.prior_kl_clearance
+        if self.action_smoothness > 0:  # named only when on, as saved models before it
+            kwargs["action_smoothness"] = self.action_smoothness
         return kwargs
 
     # --- networks -------------------------------------------------------------------------

@@ -98,6 +98,8 @@ class SelectivePolicy(ProgressivePolicy):
     :param gate_hidden: Hidden width of the learned gate
     :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
         (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
+    :param action_smoothness: Weight of the temporal smoothness term in the actor's loss (see
+        :class:`ProgressivePolicy`; 0: off, the paper)
     """
 
     def __init__(
@@ -130,6 +132,7 @@ class SelectivePolicy(ProgressivePolicy):
         start_as_prior: bool = True,
         init_from_prior: bool = False,
         prior_kl: float = DEFAULT_PRIOR_KL,
+        action_smoothness: float = 0.0,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -173,6 +176,7 @@ class SelectivePolicy(ProgressivePolicy):
             start_as_prior,
             init_from_prior,
             prior_kl,
+            action_smoothness=action_smoothness,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

@@ -94,6 +94,11 @@ Factors:
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
   ``pnn_n_steps_sine`` gives PNN's runs on the sine path their own n (None: ``pnn_n_steps``).
+* ``spnn_action_smoothness``, ``pnn_action_smoothness``: weight lambda of the temporal
+  smoothness term lambda * E[KL(pi(.|s_t) || pi(.|s_t+1))] in the actor's loss (CAPS, Mysore
+  et al. 2021; ``action_smoothness`` of :class:`sb3_pnn.ProgressivePolicy`): it discourages
+  turning left on one control step and right on the next (not in the paper: 0). Only SPNN /
+  PNN runs read them.
 * ``goal_obs``: the "goal" part (the heading deviation from the bearing to the goal, a route
   point ``goal_distance`` m ahead) is observed: by the obstacle-avoidance task instead of the
   "path" part, and by the planning tasks beside it, so that SPNN's avoidance column reads the
@@ -102,6 +107,10 @@ Factors:
   whose only prior is a path follower, observes the planning tasks as the paper states them;
   the tasks' rules, the heading rule included, are the same for every learner).
 * ``goal_distance``: how far ahead along the route the goal lies (None: the target point).
+* ``sonar_span`` (degrees, centred ahead), ``sonar_sectors``: the sonar's span S and its q
+  sectors (section 4.2.2; the paper gives neither: 180 and 9). The nearest reading is also
+  eq. 15's d; with a span under 360 degrees it depends on the heading, and an obstacle beside
+  the vehicle leaves the view when it turns away.
 * ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
   a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
 * ``oa_layout``: the obstacles of the obstacle-avoidance source task: ``"avoidance"``, its own
@@ -215,6 +224,8 @@ class TrainingSetup:
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
     pnn_n_steps_sine: int | None = None
+    spnn_action_smoothness: float = 0.0
+    pnn_action_smoothness: float = 0.0
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -224,6 +235,8 @@ class TrainingSetup:
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     planning_layout: str = "fixed"
+    sonar_span: float = 180.0
+    sonar_sectors: int = 9
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -239,6 +252,7 @@ class TrainingSetup:
             ("prior_candidates", 1),
             ("spnn_n_steps", 1),
             ("pnn_n_steps", 1),
+            ("sonar_sectors", 1),
         ):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < low:
@@ -264,6 +278,11 @@ class TrainingSetup:
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
                 "expected a number in (0, 1]"
             )
+        if not (is_finite_number(self.sonar_span) and 0.0 < self.sonar_span <= 360.0):
+            raise ValueError(
+                f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
+                "(degrees)"
+            )
         if not float(self.spnn_d_th) > 0.0:
             raise ValueError(
                 f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
@@ -282,7 +301,14 @@ class TrainingSetup:
             raise ValueError(
                 f"spnn_gate_temperature={temperature!r} is not allowed: expected a distance > 0 (m)"
             )
-        for name in ("spnn_sigma", "spnn_own_weight", "spnn_prior_kl", "pnn_prior_kl"):
+        for name in (
+            "spnn_sigma",
+            "spnn_own_weight",
+            "spnn_prior_kl",
+            "pnn_prior_kl",
+            "spnn_action_smoothness",
+            "pnn_action_smoothness",
+        ):
             value = getattr(self, name)
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name}={value!r} is not allowed: expected a finite weight >= 0")
@@ -365,6 +391,10 @@ class TrainingSetup:
             kwargs.update(goal_obs=False, path_obs=True)
         if self.heading_rule != "goal":  # eq. 21 as written: a_c of the path (the LOS course)
             kwargs["heading_rule"] = self.heading_rule
+        if (self.sonar_span, self.sonar_sectors) != (180.0, 9):  # named only off the default
+            kwargs.update(
+                sonar_span=math.radians(self.sonar_span), sonar_sectors=self.sonar_sectors
+            )
         return kwargs
 
     def agent_env_kwargs(self, agent: str) -> dict[str, Any]:
@@ -455,6 +485,9 @@ class TrainingSetup:
         if agent == "pnn" and clearance is not None and self.pnn_prior_kl > 0:
             # named only when it acts, so runs without the term keep their hash
             kwargs["policy_kwargs"]["prior_kl_clearance"] = float(clearance)
+        smoothness = {"spnn": self.spnn_action_smoothness, "pnn": self.pnn_action_smoothness}
+        if smoothness.get(agent, 0.0) > 0:  # named only when on, so earlier runs keep their hash
+            kwargs["policy_kwargs"]["action_smoothness"] = float(smoothness[agent])
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
@@ -644,11 +677,15 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",
+    "spnn_action_smoothness": "SPNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
+    "pnn_action_smoothness": "PNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "pnn_goal_obs": "PNN observes the goal part too",
     "goal_distance": "goal: route point ahead (m)",
+    "sonar_span": "sonar span S (deg, centred ahead)",
+    "sonar_sectors": "sonar sectors q",
     "heading_rule": "heading rule of the planning tasks reads",
     "oa_layout": "obstacles of the avoidance task",
     "oa_corridor": "corridor half-width of the avoidance task (m)",

@@ -68,3 +68,16 @@ def obs_tensor(policy, obs: dict[str, np.ndarray], keys=None):
     """``obs`` (or only its ``keys``) as the policy's tensors."""
     part = obs if keys is None else {k: obs[k] for k in keys}
     return policy.obs_to_tensor(part)[0]
+
+
+def actor_loss_inputs(seed: int = 0, n: int = 8, n_actions: int = 5):
+    """Random actor logits, a second logits tensor (a reference or the next state's), twin
+    Q-values and the other arguments of ``discrete_sac_losses``, for tests of its actor terms."""
+    import torch as th
+
+    gen = th.Generator().manual_seed(seed)
+    logits = th.randn(n, n_actions, generator=gen)
+    other = th.randn(n, n_actions, generator=gen)
+    q = (th.randn(n, n_actions, generator=gen), th.randn(n, n_actions, generator=gen))
+    common = dict(target_q_values=th.zeros(n, 1), actions=th.zeros(n, 1), ent_coef=0.2)
+    return logits, other, q, common

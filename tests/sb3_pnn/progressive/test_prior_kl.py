@@ -12,6 +12,7 @@ import torch as th
 import torch.nn.functional as F
 from progressive_helpers import (
     NEAR_DISTANCES,
+    actor_loss_inputs,
     near_far_batch,
     obs_tensor,
     toy_model,
@@ -58,11 +59,8 @@ def test_pnn_reference_is_its_priors_policy(priors):
 
 
 def test_the_term_is_beta_times_the_kl_divergence():
-    gen = th.Generator().manual_seed(0)
-    logits = th.randn(8, 5, generator=gen)
-    reference = F.log_softmax(th.randn(8, 5, generator=gen), dim=1)
-    q = (th.randn(8, 5, generator=gen), th.randn(8, 5, generator=gen))
-    common = dict(target_q_values=th.zeros(8, 1), actions=th.zeros(8, 1), ent_coef=0.2)
+    logits, other, q, common = actor_loss_inputs()
+    reference = F.log_softmax(other, dim=1)
     plain = discrete_sac_losses(logits, q, **common).actor_loss
     with_kl = discrete_sac_losses(
         logits, q, **common, prior_log_probs=reference, prior_kl=3.0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -321,3 +322,45 @@ def test_oa_offset_obs_reaches_the_avoidance_column_and_the_spnn_only() -> None:
             assert spec.env_kwargs == plain[spec.run_id].env_kwargs
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
     assert touched == {"prior-oa-s0", "spnn-straight-s0", "spnn-sine-s0"}
+
+
+def test_spnn_action_smoothness_reaches_only_spnn_runs_when_on() -> None:
+    """spnn_action_smoothness: SPNN's policy keyword action_smoothness, named only when > 0
+    (runs made before the factor existed keep their hash); no other run changes."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["spnn_action_smoothness=1"]).items())
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        policy_kwargs = spec.sac_kwargs.get("policy_kwargs", {})
+        if spec.agent == "spnn":
+            assert policy_kwargs["action_smoothness"] == 1.0
+        else:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all("action_smoothness" not in s.sac_kwargs.get("policy_kwargs", {})
+               for s in plain.values())  # fmt: skip
+    with pytest.raises(ValueError, match=r"spnn_action_smoothness=-1.0 is not allowed"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("spnn_action_smoothness", -1.0),))
+
+
+def test_sonar_span_and_sectors_reach_every_task_only_off_the_default() -> None:
+    """sonar_span (degrees) / sonar_sectors: the env keywords of every run, named only off the
+    180 deg / 9 sectors default (runs made before the factors existed keep their hash); the
+    avoidance column's task then observes q sectors over the span; bad values are refused."""
+    import gymnasium as gym
+
+    import rov_envs  # noqa: F401 - registers the tasks
+    from sb3_pnn.reproduce.planning.setups import OURS
+
+    assert "sonar_span" not in OURS.env_kwargs() and "sonar_sectors" not in OURS.env_kwargs()
+    wide = OURS.with_(sonar_span=360.0, sonar_sectors=18)
+    kwargs = wide.train_env_kwargs("rov_envs/ObstacleAvoidance-v0")
+    assert kwargs["sonar_span"] == pytest.approx(2 * math.pi) and kwargs["sonar_sectors"] == 18
+    env = gym.make("rov_envs/ObstacleAvoidance-v0", **kwargs)
+    assert env.observation_space["sonar"].shape == (18,)
+    assert env.unwrapped.config.sonar_span == pytest.approx(2 * math.pi)
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["sonar_span=360", "sonar_sectors=18"]).items())
+    changed = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    assert all(s.config_hash() != plain[s.run_id].config_hash() for s in changed)
+    for bad in (("sonar_span", 0.0), ("sonar_span", 400.0), ("sonar_sectors", 0)):
+        with pytest.raises(ValueError, match=f"{bad[0]}={bad[1]!r} is not allowed"):
+            OURS.with_(**dict([bad]))
