@@ -15,10 +15,7 @@ Usage: python -m sb3_pnn.reproduce.tools.prior_agreement STUDY --path straight
 
 from __future__ import annotations
 
-import argparse
-import json
 from collections import Counter
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -29,6 +26,7 @@ from rov_envs.physics.thrusters import N_ACTIONS
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.common.callbacks import VALIDATION_SEED
 from sb3_pnn.common.checks import positive_int
+from sb3_pnn.reproduce.tools.replay import ended, load_run, task_id, task_parser
 
 REGIMES = ("path following", "avoidance")
 
@@ -70,7 +68,6 @@ def table(rows: list[tuple[int, Counter, Counter]]) -> list[str]:
         "|---|---|---|---|---|---|---|",
     ]
     for seed, counts, ends in rows:
-        ended = ", ".join(f"{k} {v}" for k, v in ends.most_common())
         for regime in REGIMES:
             steps = counts[(regime, "steps")]
             if not steps:
@@ -81,33 +78,21 @@ def table(rows: list[tuple[int, Counter, Counter]]) -> list[str]:
             )
             agree = counts[(regime, "agree")] / steps
             lines.append(
-                f"| {seed} | {regime} | {steps} | {100 * agree:.0f} % | {own} | {prior} | {ended} |"
+                f"| {seed} | {regime} | {steps} | {100 * agree:.0f} % | {own} | {prior} "
+                f"| {ended(ends)} |"
             )
     return lines
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("study", type=Path)
-    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
-    parser.add_argument("--env", default=None, help="task (default: the path's planning task)")
-    parser.add_argument("--episodes", type=positive_int("--episodes"), default=10)
+    parser = task_parser(__doc__, episodes=10)
     parser.add_argument("--seeds", type=positive_int("--seeds"), default=3)
     args = parser.parse_args(argv)
-    env_id = args.env or f"rov_envs/Planning{args.path.capitalize()}-v0"
-    if env_id not in gym.registry:
-        parser.error(f"--env {env_id!r} is not a registered task: expected an rov_envs/... id")
+    env_id = task_id(parser, args)
     th.set_num_threads(1)
     rows = []
     for seed in range(args.seeds):
-        run = args.study / "runs" / f"spnn-{args.path}-s{seed}"
-        if not (run / "model.zip").exists():
-            parser.error(
-                f"{run / 'model.zip'} does not exist: expected a study folder with SPNN runs"
-            )
-        env_kwargs = json.loads((run / "eval.json").read_text())["original"]["env_kwargs"]
-        model = DiscreteSAC.load(run / "model.zip", device="cpu")
-        env = gym.make(env_id, **env_kwargs)
+        model, env = load_run(parser, args.study / "runs" / f"spnn-{args.path}-s{seed}", env_id)
         rows.append((seed, *step_counts(model, env, args.episodes, VALIDATION_SEED)))
         env.close()
     print(f"SPNN on {env_id}, {args.episodes} validation episodes per seed")

@@ -1,0 +1,51 @@
+"""What the diagnostics that replay a study's policies share: the study / path / task arguments,
+one run's model with the env it was evaluated in, and how episodes ended, as one table cell."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import Counter
+from pathlib import Path
+
+import gymnasium as gym
+
+import rov_envs  # noqa: F401  (registers the tasks)
+from sb3_pnn import DiscreteSAC
+from sb3_pnn.common.checks import positive_int
+
+
+def task_parser(doc: str, episodes: int) -> argparse.ArgumentParser:
+    """A parser described by ``doc``'s first line, with the study folder, ``--path``, ``--env``
+    (the task to replay on) and ``--episodes`` (per seed; ``episodes`` by default)."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("study", type=Path)
+    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
+    parser.add_argument("--env", default=None, help="task (default: the path's planning task)")
+    parser.add_argument("--episodes", type=positive_int("--episodes"), default=episodes)
+    return parser
+
+
+def task_id(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
+    """``--env``, or the path's planning task; a task that is not registered stops the
+    command with a message."""
+    env_id = args.env or f"rov_envs/Planning{args.path.capitalize()}-v0"
+    if env_id not in gym.registry:
+        parser.error(f"--env {env_id!r} is not a registered task: expected an rov_envs/... id")
+    return env_id
+
+
+def load_run(
+    parser: argparse.ArgumentParser, run: Path, env_id: str
+) -> tuple[DiscreteSAC, gym.Env]:
+    """The run's model and ``env_id`` made with the env keywords of the run's evaluation; a
+    missing run stops the command with a message."""
+    if not (run / "model.zip").exists():
+        parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
+    env_kwargs = json.loads((run / "eval.json").read_text())["original"]["env_kwargs"]
+    return DiscreteSAC.load(run / "model.zip", device="cpu"), gym.make(env_id, **env_kwargs)
+
+
+def ended(ends: Counter) -> str:
+    """How episodes ended, most frequent first: "success 19, off_path 1"."""
+    return ", ".join(f"{k} {v}" for k, v in ends.most_common())
