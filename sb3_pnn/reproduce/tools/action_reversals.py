@@ -12,6 +12,8 @@ turns toward it, so the reading (and SPNN's gate, which switches at d_th) flips 
 Episodes run on the validation seeds (20000+, never the study's evaluation seeds 10000+) with
 the run's env keywords; nothing is chosen here.
 
+A PID baseline (``--agent adaptive_pid``) runs the same episodes, for reference.
+
 Usage: python -m sb3_pnn.reproduce.tools.action_reversals STUDY --agent spnn --path sine
     [--env rov_envs/PlanningSineDense-v0] [--episodes 20] [--seeds 0 1 2] [--jump 3]
 """
@@ -20,12 +22,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Sequence
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
 import torch as th
 
-from sb3_pnn import DiscreteSAC
+from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.callbacks import VALIDATION_SEED
 from sb3_pnn.reproduce.tools.replay import ended, load_run, task_id, task_parser
 
@@ -70,14 +73,17 @@ def step_counts(
 
 
 def run_episodes(
-    model: DiscreteSAC, env: gym.Env, episodes: int, seed: int, sonar_range: float, jump: float
+    model: Any, env: gym.Env, episodes: int, seed: int, sonar_range: float, jump: float
 ) -> tuple[Counter, Counter]:
     """Step counts (:func:`step_counts`) over ``episodes`` deterministic episodes from
-    ``seed`` (sonar readings are distance / ``sonar_range``), and how the episodes ended."""
+    ``seed`` of ``model`` (a trained agent or a PID baseline, whose memory is reset at each
+    start; sonar readings are distance / ``sonar_range``), and how the episodes ended."""
     counts: Counter = Counter()
     ends: Counter = Counter()
     for episode in range(episodes):
         obs, info = env.reset(seed=seed + episode)
+        if hasattr(model, "reset"):
+            model.reset()
         actions, nearest, done = [], [], False
         while not done:
             action, _ = model.predict(obs, deterministic=True)
@@ -112,7 +118,9 @@ def table(rows: list[tuple[int, Counter, Counter]], sonar_range: float) -> list[
 
 def main(argv: list[str] | None = None) -> int:
     parser = task_parser(__doc__, episodes=20)
-    parser.add_argument("--agent", default="spnn", help="the runs' agent (spnn, pnn, ...)")
+    parser.add_argument(
+        "--agent", default="spnn", help="the runs' agent (spnn, pnn, ..., pid, adaptive_pid)"
+    )
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--jump", type=float, default=3.0, help="metres (default 3)")
     args = parser.parse_args(argv)
@@ -121,10 +129,10 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--jump {args.jump!r} is not allowed: expected a distance > 0 (m)")
     th.set_num_threads(1)
     rows, sonar_range = [], 0.0
-    for seed in args.seeds:
-        model, env = load_run(
-            parser, args.study / "runs" / f"{args.agent}-{args.path}-s{seed}", env_id
-        )
+    baseline = args.agent in BASELINE_NAMES  # one run per path, no training seed
+    for seed in [0] if baseline else args.seeds:
+        name = f"{args.agent}-{args.path}" + ("" if baseline else f"-s{seed}")
+        model, env = load_run(parser, args.study / "runs" / name, env_id)
         if "sonar" not in env.observation_space.spaces:
             parser.error(f"{env_id} has no sonar: expected a task with obstacles")
         sonar_range = float(env.unwrapped.config.sonar_range)

@@ -7,11 +7,13 @@ import argparse
 import json
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 
 import rov_envs  # noqa: F401  (registers the tasks)
 from sb3_pnn import DiscreteSAC
+from sb3_pnn.baselines import BASELINE_NAMES, make_baseline
 from sb3_pnn.common.checks import positive_int
 
 
@@ -35,15 +37,19 @@ def task_id(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
     return env_id
 
 
-def load_run(
-    parser: argparse.ArgumentParser, run: Path, env_id: str
-) -> tuple[DiscreteSAC, gym.Env]:
-    """The run's model and ``env_id`` made with the env keywords of the run's evaluation; a
-    missing run stops the command with a message."""
-    if not (run / "model.zip").exists():
+def load_run(parser: argparse.ArgumentParser, run: Path, env_id: str) -> tuple[Any, gym.Env]:
+    """The run's policy (its model, or the PID baseline the run evaluated) and ``env_id`` made
+    with the env keywords of the run's evaluation; a missing run stops the command with a
+    message."""
+    manifest = run / "manifest.json"
+    baseline = json.loads(manifest.read_text()).get("agent") if manifest.exists() else None
+    if baseline not in BASELINE_NAMES and not (run / "model.zip").exists():
         parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
     env_kwargs = json.loads((run / "eval.json").read_text())["original"]["env_kwargs"]
-    return DiscreteSAC.load(run / "model.zip", device="cpu"), gym.make(env_id, **env_kwargs)
+    env = gym.make(env_id, **env_kwargs)
+    if baseline in BASELINE_NAMES:
+        return make_baseline(baseline, env), env
+    return DiscreteSAC.load(run / "model.zip", device="cpu"), env
 
 
 def ended(ends: Counter) -> str:

@@ -45,3 +45,17 @@ def test_bad_arguments_stop_with_a_message(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main([str(tmp_path), "--seeds", "0"])
     assert "model.zip does not exist" in capsys.readouterr().err
+
+
+def test_a_pid_baseline_run_replays_without_a_model(tmp_path, capsys):
+    """A study's PID run folder (no model.zip, no training seed) replays its baseline."""
+    import json
+
+    run = tmp_path / "runs" / "adaptive_pid-straight"
+    run.mkdir(parents=True)
+    (run / "manifest.json").write_text(json.dumps({"agent": "adaptive_pid"}))
+    (run / "eval.json").write_text(json.dumps({"original": {"env_kwargs": {}}}))
+    args = [str(tmp_path), "--agent", "adaptive_pid", "--episodes", "1"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "adaptive_pid on rov_envs/PlanningStraight-v0" in out and "| 0 | " in out
