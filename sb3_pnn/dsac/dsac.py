@@ -222,6 +222,11 @@ class DiscreteSAC(OffPolicyAlgorithm):
         learned, in (0, 1]. Default 0.5: the paper gives only alpha's initial value;
         Christodoulou's 0.98 puts the target out of reach of a useful policy, so alpha keeps
         growing (CleanRL uses 0.89). How the value was chosen is in docs/benchmarks.md.
+    :param exploration_epsilon: During training, each step's action is replaced by a uniformly
+        drawn one with this probability (after ``learning_starts``; 0: off, the paper and
+        Christodoulou). A softmax policy gives an action whose Q-value lies far below the best
+        almost no probability, so its Q-value is never corrected by data; epsilon keeps every
+        action tried (as DQN's exploration does). ``predict`` is unchanged.
     :param target_update_interval: Polyak-update the targets every ``target_update_interval``
         gradient steps (counted over the whole run)
     :param stats_window_size: Window size for the rollout logging
@@ -260,6 +265,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         n_steps: int = 1,
         ent_coef: str | float = "auto_0.2",
         target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO,
+        exploration_epsilon: float = 0.0,
         target_update_interval: int = 1,
         stats_window_size: int = 100,
         tensorboard_log: str | None = None,
@@ -276,6 +282,12 @@ class DiscreteSAC(OffPolicyAlgorithm):
             raise ValueError(
                 f"target_entropy_ratio must be in (0, 1], got {target_entropy_ratio!r}"
             )
+        if not (
+            isinstance(exploration_epsilon, (int, float))
+            and not isinstance(exploration_epsilon, bool)
+            and 0.0 <= exploration_epsilon < 1.0
+        ):
+            raise ValueError(f"exploration_epsilon must be in [0, 1), got {exploration_epsilon!r}")
         if not (isinstance(tau, (int, float)) and 0.0 <= tau <= 1.0):
             raise ValueError(f"tau (Polyak coefficient) must be in [0, 1], got {tau!r}")
         if not (isinstance(target_update_interval, int) and target_update_interval >= 1):
@@ -321,6 +333,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
 
         self.ent_coef = ent_coef
         self.target_entropy_ratio = float(target_entropy_ratio)
+        self.exploration_epsilon = float(exploration_epsilon)
         self.target_entropy = 0.0  # set in _setup_model from the action space
         self.target_update_interval = target_update_interval
         self.log_ent_coef: th.Tensor | None = None
@@ -521,6 +534,20 @@ class DiscreteSAC(OffPolicyAlgorithm):
             for stat, target_stat in zip(self.batch_norm_stats, self.batch_norm_stats_target):
                 target_stat.copy_(stat)
 
+    def _sample_action(
+        self, learning_starts: int, action_noise: ActionNoise | None = None, n_envs: int = 1
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """SB3's exploration action; with ``exploration_epsilon`` > 0, after the warm-up, each
+        environment's action is replaced by a uniform draw with that probability (numpy's
+        global generator, which SB3 seeds; none is drawn when epsilon is 0)."""
+        action, buffer_action = super()._sample_action(learning_starts, action_noise, n_envs)
+        if self.exploration_epsilon > 0 and self.num_timesteps >= learning_starts:
+            explore = np.random.random(n_envs) < self.exploration_epsilon  # noqa: NPY002
+            uniform = np.random.randint(int(self.action_space.n), size=n_envs)  # noqa: NPY002
+            action = np.where(explore, uniform, np.asarray(action).reshape(n_envs))
+            buffer_action = action
+        return action, buffer_action
+
     def collect_rollouts(
         self,
         env: VecEnv,
@@ -695,8 +722,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
         "buffer_size", "learning_starts", "batch_size", "tau", "gamma", "train_freq",
         "gradient_steps", "replay_buffer_class", "replay_buffer_kwargs",
         "optimize_memory_usage", "n_steps", "ent_coef", "target_entropy_ratio",
-        "target_update_interval", "stats_window_size", "tensorboard_log", "policy_kwargs",
-        "verbose", "seed",
+        "exploration_epsilon", "target_update_interval", "stats_window_size", "tensorboard_log",
+        "policy_kwargs", "verbose", "seed",
     )  # fmt: skip
 
     def checkpoint_hyperparameters(self) -> dict[str, Any]:
@@ -733,6 +760,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
             "n_steps": self.n_steps,
             "ent_coef": self.ent_coef,
             "target_entropy_ratio": self.target_entropy_ratio,
+            "exploration_epsilon": self.exploration_epsilon,
             "target_update_interval": self.target_update_interval,
             "stats_window_size": self._stats_window_size,
             "tensorboard_log": self.tensorboard_log,
@@ -764,6 +792,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         for key in ("tau", "gamma"):
             check_number(hyper[key], f"{where} {key}", 0.0, 1.0)
         check_number(hyper["target_entropy_ratio"], f"{where} target_entropy_ratio", 1e-9, 1.0)
+        check_number(hyper["exploration_epsilon"], f"{where} exploration_epsilon", 0.0, 0.999999)
         if hyper["seed"] is not None:
             check_number(hyper["seed"], f"{where} seed", -(2**63), 2**64, integer=True)
         if not isinstance(hyper["optimize_memory_usage"], bool):
@@ -793,7 +822,11 @@ class DiscreteSAC(OffPolicyAlgorithm):
     @classmethod
     def upgrade_checkpoint(cls, meta: dict[str, Any]) -> dict[str, Any]:
         """A checkpoint of an earlier format version as the current one. Version 1 named the
-        network architecture only when it was not the default, then [255, 255]."""
+        network architecture only when it was not the default, then [255, 255]. Checkpoints
+        written before ``exploration_epsilon`` existed trained without it (0)."""
+        hyper = meta.get("hyperparameters")
+        if isinstance(hyper, dict) and "exploration_epsilon" not in hyper:
+            hyper["exploration_epsilon"] = 0.0
         if meta.get("version") == 1:
             hyper = meta.get("hyperparameters")
             kwargs = hyper.get("policy_kwargs") if isinstance(hyper, dict) else None

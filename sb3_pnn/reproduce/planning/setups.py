@@ -107,6 +107,10 @@ Factors:
   whose only prior is a path follower, observes the planning tasks as the paper states them;
   the tasks' rules, the heading rule included, are the same for every learner).
 * ``goal_distance``: how far ahead along the route the goal lies (None: the target point).
+* ``exploration_epsilon``: the learners (not the source columns) replace each training
+  action by a uniformly drawn one with this probability (``exploration_epsilon`` of
+  ``DiscreteSAC``): a softmax policy almost never tries an action whose Q-value lies far below
+  the best, so that value is never corrected (not in the paper: 0).
 * ``sonar_span`` (degrees, centred ahead), ``sonar_sectors``: the sonar's span S and its q
   sectors (section 4.2.2; the paper gives neither: 180 and 9). The nearest reading is also
   eq. 15's d; with a span under 360 degrees it depends on the heading, and an obstacle beside
@@ -226,6 +230,7 @@ class TrainingSetup:
     pnn_n_steps_sine: int | None = None
     spnn_action_smoothness: float = 0.0
     pnn_action_smoothness: float = 0.0
+    exploration_epsilon: float = 0.0
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -277,6 +282,11 @@ class TrainingSetup:
             raise ValueError(
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
                 "expected a number in (0, 1]"
+            )
+        if not (is_finite_number(self.exploration_epsilon) and 0 <= self.exploration_epsilon < 1):
+            raise ValueError(
+                f"exploration_epsilon={self.exploration_epsilon!r} is not allowed: expected a "
+                "probability in [0, 1)"
             )
         if not (is_finite_number(self.sonar_span) and 0.0 < self.sonar_span <= 360.0):
             raise ValueError(
@@ -488,6 +498,8 @@ class TrainingSetup:
         smoothness = {"spnn": self.spnn_action_smoothness, "pnn": self.pnn_action_smoothness}
         if smoothness.get(agent, 0.0) > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["action_smoothness"] = float(smoothness[agent])
+        if agent and not prior and self.exploration_epsilon > 0:  # the learners' runs only
+            kwargs["exploration_epsilon"] = float(self.exploration_epsilon)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
@@ -679,6 +691,7 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",
     "spnn_action_smoothness": "SPNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "pnn_action_smoothness": "PNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
+    "exploration_epsilon": "learners: uniform action with probability epsilon in training",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",

@@ -364,3 +364,18 @@ def test_sonar_span_and_sectors_reach_every_task_only_off_the_default() -> None:
     for bad in (("sonar_span", 0.0), ("sonar_span", 400.0), ("sonar_sectors", 0)):
         with pytest.raises(ValueError, match=f"{bad[0]}={bad[1]!r} is not allowed"):
             OURS.with_(**dict([bad]))
+
+
+def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
+    """exploration_epsilon: a DiscreteSAC keyword of the four learners' runs (not the source
+    columns'), named only when > 0; a bad value is refused."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["exploration_epsilon=0.05"]).items())
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        learner = spec.agent in ("pnn", "spnn", "sac_single", "sac_multi")
+        assert spec.sac_kwargs.get("exploration_epsilon") == (0.05 if learner else None)
+        if not learner:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all("exploration_epsilon" not in s.sac_kwargs for s in plain.values())
+    with pytest.raises(ValueError, match=r"exploration_epsilon=1.0 is not allowed"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("exploration_epsilon", 1.0),))
