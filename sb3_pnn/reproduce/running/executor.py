@@ -12,18 +12,23 @@ stand-ins in tests.
 Ctrl-C (``KeyboardInterrupt``) stops the invocation: nothing new is started, the runs in
 flight end (a worker that got the interrupt too records its run as failed; one that did not
 commits it), and :func:`execute` returns its summary with ``stopped`` set, so that the caller
-can record the session; running the same command again resumes.
+can record the session; running the same command again resumes. SIGTERM to the main process
+stops it the same way (a study started in the background from a script ignores SIGINT, and
+schedulers end jobs with SIGTERM); its runs in flight finish and commit first.
 """
 
 from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import signal
+import threading
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -248,6 +253,24 @@ def _launch(schedule: _Schedule, pool: Any, jobs: int, max_new_runs: int | None)
         schedule.started += 1
 
 
+@contextmanager
+def _sigterm_stops() -> Iterator[None]:
+    """While inside: SIGTERM raises ``KeyboardInterrupt`` in the main thread (module
+    docstring); elsewhere, or outside, signals keep their handlers."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def execute(
     plan: list[RunSpec],
     store: RunStore,
@@ -266,6 +289,19 @@ def execute(
         simulate an interrupted study); None = all.
     """
     _check_plan(plan, jobs)
+    with _sigterm_stops():
+        return _execute(plan, store, work, jobs, quiet, max_new_runs, pool)
+
+
+def _execute(
+    plan: list[RunSpec],
+    store: RunStore,
+    work: WorkFn,
+    jobs: int,
+    quiet: bool,
+    max_new_runs: int | None,
+    pool: Any,
+) -> ExecutionSummary:
     start = time.time()
     schedule = _Schedule(plan, store, quiet)
     try:

@@ -159,6 +159,26 @@ def test_ctrl_c_records_the_session_and_the_same_command_resumes(tmp_path) -> No
     assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
 
 
+def test_sigterm_stops_like_ctrl_c_and_lets_the_runs_in_flight_commit(tmp_path) -> None:
+    """SIGTERM to the main process alone (a scheduler's stop; a background job ignores SIGINT):
+    exit code 130, a stopped session that counts every committed run, and no run cut short
+    (the workers were not signalled, so their runs in flight finish and commit)."""
+    out = tmp_path / "study"
+    proc = _start_study_and_wait_for_runs(out)
+    try:
+        os.kill(proc.pid, signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, err
+    sessions = json.loads((out / "sessions.json").read_text())
+    assert sessions[0]["stopped"] is True and sessions[0]["runs_failed"] == 0
+    assert sessions[0]["runs_done"] == len(_snapshot(out)) >= 3
+    assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
+
+
 class _CommitThenInterruptPool:
     """A pool whose runs commit at once, in this process, and whose wait is interrupted (as by
     Ctrl-C) before it reports any of them: the window between a worker's commit and the
