@@ -129,19 +129,26 @@ def test_killed_study_resumes(tmp_path) -> None:
     assert not [d for d in (out / "runs").iterdir() if d.name.startswith(".tmp-")]
 
 
+def _stop_study(proc: subprocess.Popen, send) -> str:
+    """``send(pid)`` a signal to the study, wait for it to end (SIGKILL to its group after
+    60 s) and return what it printed on stderr."""
+    try:
+        send(proc.pid)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    return err
+
+
 def test_ctrl_c_records_the_session_and_the_same_command_resumes(tmp_path) -> None:
     """Ctrl-C (SIGINT to the process group, as a terminal sends it) ends the invocation with
     exit code 130 and a session marked stopped that counts the runs it committed; the same
     command then finishes the study."""
     out = tmp_path / "study"
     proc = _start_study_and_wait_for_runs(out)
-    try:
-        os.killpg(proc.pid, signal.SIGINT)
-        _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+    err = _stop_study(proc, lambda pid: os.killpg(pid, signal.SIGINT))
     assert proc.returncode == 130, err
     assert "stopped after" in err and "the same command resumes" in err
     sessions = json.loads((out / "sessions.json").read_text())
@@ -165,13 +172,7 @@ def test_sigterm_stops_like_ctrl_c_and_lets_the_runs_in_flight_commit(tmp_path) 
     (the workers were not signalled, so their runs in flight finish and commit)."""
     out = tmp_path / "study"
     proc = _start_study_and_wait_for_runs(out)
-    try:
-        os.kill(proc.pid, signal.SIGTERM)
-        _, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+    err = _stop_study(proc, lambda pid: os.kill(pid, signal.SIGTERM))
     assert proc.returncode == 130, err
     sessions = json.loads((out / "sessions.json").read_text())
     assert sessions[0]["stopped"] is True and sessions[0]["runs_failed"] == 0
