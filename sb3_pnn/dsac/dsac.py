@@ -792,7 +792,12 @@ class DiscreteSAC(OffPolicyAlgorithm):
         for key in ("tau", "gamma"):
             check_number(hyper[key], f"{where} {key}", 0.0, 1.0)
         check_number(hyper["target_entropy_ratio"], f"{where} target_entropy_ratio", 1e-9, 1.0)
-        check_number(hyper["exploration_epsilon"], f"{where} exploration_epsilon", 0.0, 0.999999)
+        check_number(
+            hyper["exploration_epsilon"],
+            f"{where} exploration_epsilon",
+            0.0,
+            math.nextafter(1.0, 0.0),  # [0, 1)
+        )
         if hyper["seed"] is not None:
             check_number(hyper["seed"], f"{where} seed", -(2**63), 2**64, integer=True)
         if not isinstance(hyper["optimize_memory_usage"], bool):

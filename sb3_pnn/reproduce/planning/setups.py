@@ -401,10 +401,12 @@ class TrainingSetup:
             kwargs.update(goal_obs=False, path_obs=True)
         if self.heading_rule != "goal":  # eq. 21 as written: a_c of the path (the LOS course)
             kwargs["heading_rule"] = self.heading_rule
-        if (self.sonar_span, self.sonar_sectors) != (180.0, 9):  # named only off the default
-            kwargs.update(
-                sonar_span=math.radians(self.sonar_span), sonar_sectors=self.sonar_sectors
-            )
+        from rov_envs.sim.config import SONAR_SECTORS, SONAR_SPAN
+
+        span = math.radians(self.sonar_span)
+        if not math.isclose(span, SONAR_SPAN) or self.sonar_sectors != SONAR_SECTORS:
+            # named only off the tasks' own sonar, so earlier runs keep their hash
+            kwargs.update(sonar_span=span, sonar_sectors=self.sonar_sectors)
         return kwargs
 
     def agent_env_kwargs(self, agent: str) -> dict[str, Any]:

@@ -6,7 +6,8 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-SONAR_RANGE = 25.0
+from sb3_pnn.progressive.progressive_policy import SONAR_RANGE
+
 PATH = spaces.Box(-1.0, 1.0, (2,), np.float32)
 SONAR = spaces.Box(0.0, 1.0, (9,), np.float32)
 

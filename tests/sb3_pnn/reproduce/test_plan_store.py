@@ -379,3 +379,22 @@ def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
     assert all("exploration_epsilon" not in s.sac_kwargs for s in plain.values())
     with pytest.raises(ValueError, match=r"exploration_epsilon=1.0 is not allowed"):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("exploration_epsilon", 1.0),))
+
+
+def test_the_set_up_and_the_policies_name_the_tasks_own_sonar() -> None:
+    """The set-ups' sonar defaults (180 deg, 9 sectors) and the progressive policies' sonar key
+    and range are rov_envs' own, so that the default study names no sonar keyword and SPNN's
+    gate reads metres."""
+    import gymnasium as gym
+
+    import rov_envs  # noqa: F401 - registers the tasks
+    from rov_envs.sim.config import SONAR_RANGE, SONAR_SECTORS, SONAR_SPAN
+    from sb3_pnn.progressive.progressive_policy import SONAR_KEY
+    from sb3_pnn.progressive.progressive_policy import SONAR_RANGE as POLICY_RANGE
+    from sb3_pnn.reproduce.planning.setups import OURS, PAPER
+
+    for setup in (OURS, PAPER):
+        assert math.radians(setup.sonar_span) == pytest.approx(SONAR_SPAN)
+        assert setup.sonar_sectors == SONAR_SECTORS
+    assert POLICY_RANGE == SONAR_RANGE
+    assert SONAR_KEY in gym.make("rov_envs/PlanningStraight-v0").observation_space.spaces
