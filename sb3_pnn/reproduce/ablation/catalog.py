@@ -115,6 +115,12 @@ NOT_ABLATED: dict[str, str] = {
     "pnn_n_steps_sine": _ONLY_PNN
     + "beside pnn_n_steps, whose value it replaces on the sine path (docs/ablation/README.md, "
     "section 12)",
+    "pnn_exploration_epsilon": _ONLY_PNN
+    + "by retraining PNN's runs on seeds 0-2 and on fresh seeds 5-9 (docs/ablation/README.md, "
+    "section 14)",
+    "pnn_exploration_epsilon_sine": _ONLY_PNN
+    + "beside pnn_exploration_epsilon, whose value it replaces on the sine path "
+    "(docs/ablation/README.md, section 14)",
 }
 #: Share of the source columns' budget in the ``ours+prior_budget=...`` cell.
 REDUCED_PRIOR_SHARE = 0.5

@@ -111,6 +111,8 @@ Factors:
   action by a uniformly drawn one with this probability (``exploration_epsilon`` of
   ``DiscreteSAC``): a softmax policy almost never tries an action whose Q-value lies far below
   the best, so that value is never corrected (not in the paper: 0).
+  ``pnn_exploration_epsilon`` gives PNN's runs their own epsilon (None: ``exploration_epsilon``),
+  ``pnn_exploration_epsilon_sine`` PNN's runs on the sine path theirs (None: PNN's).
 * ``sonar_span`` (degrees, centred ahead), ``sonar_sectors``: the sonar's span S and its q
   sectors (section 4.2.2; the paper gives neither: 180 and 9). The nearest reading is also
   eq. 15's d; with a span under 360 degrees it depends on the heading, and an obstacle beside
@@ -231,6 +233,8 @@ class TrainingSetup:
     spnn_action_smoothness: float = 0.0
     pnn_action_smoothness: float = 0.0
     exploration_epsilon: float = 0.0
+    pnn_exploration_epsilon: float | None = None
+    pnn_exploration_epsilon_sine: float | None = None
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -283,11 +287,23 @@ class TrainingSetup:
                 f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
                 "expected a number in (0, 1]"
             )
-        if not (is_finite_number(self.exploration_epsilon) and 0 <= self.exploration_epsilon < 1):
-            raise ValueError(
-                f"exploration_epsilon={self.exploration_epsilon!r} is not allowed: expected a "
-                "probability in [0, 1)"
-            )
+        for name in (
+            "exploration_epsilon",
+            "pnn_exploration_epsilon",
+            "pnn_exploration_epsilon_sine",
+        ):
+            value = getattr(self, name)
+            if name != "exploration_epsilon" and value is None:
+                continue
+            if not (is_finite_number(value) and 0 <= value < 1):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected a probability in [0, 1)"
+                    + (
+                        ""
+                        if name == "exploration_epsilon"
+                        else ", or None for the factor it refines"
+                    )
+                )
         if not (is_finite_number(self.sonar_span) and 0.0 < self.sonar_span <= 360.0):
             raise ValueError(
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
@@ -500,8 +516,11 @@ class TrainingSetup:
         smoothness = {"spnn": self.spnn_action_smoothness, "pnn": self.pnn_action_smoothness}
         if smoothness.get(agent, 0.0) > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["action_smoothness"] = float(smoothness[agent])
-        if agent and not prior and self.exploration_epsilon > 0:  # the learners' runs only
-            kwargs["exploration_epsilon"] = float(self.exploration_epsilon)
+        epsilon = self.exploration_epsilon_of(agent, path) if agent and not prior else 0.0
+        if (
+            epsilon > 0
+        ):  # the learners' runs only, named only when on (earlier runs keep their hash)
+            kwargs["exploration_epsilon"] = epsilon
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
@@ -512,6 +531,23 @@ class TrainingSetup:
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         return kwargs
+
+    def exploration_epsilon_of(self, agent: str, path: str) -> float:
+        """The learner ``agent``'s exploration epsilon on planning path ``path``: PNN's runs read
+        ``pnn_exploration_epsilon`` (and ``pnn_exploration_epsilon_sine`` on the sine path) where
+        set, every learner else ``exploration_epsilon``."""
+        epsilon = self.exploration_epsilon
+        if agent == "pnn":
+            own, sine = self.pnn_exploration_epsilon, self.pnn_exploration_epsilon_sine
+            epsilon = epsilon if own is None else own
+            if sine is not None and sine != epsilon:
+                if path not in ("straight", "sine"):
+                    raise ValueError(
+                        f"pnn_exploration_epsilon_sine={sine!r} depends on the path: expected "
+                        "path='straight' or 'sine'"
+                    )
+                epsilon = sine if path == "sine" else epsilon
+        return float(epsilon)
 
     def pnn_n_steps_of(self, path: str) -> int:
         """PNN's return length n on planning path ``path`` (``pnn_n_steps_sine`` on the sine
@@ -650,6 +686,8 @@ OURS = TrainingSetup(
     pnn_prior_kl_clearance=PAPER_D_TH,
     pnn_n_steps=8,
     pnn_n_steps_sine=1,
+    pnn_exploration_epsilon=0.05,
+    pnn_exploration_epsilon_sine=0.0,
     goal_obs=True,
     goal_distance=25.0,
     heading_rule="goal",
@@ -694,6 +732,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_action_smoothness": "SPNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "pnn_action_smoothness": "PNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "exploration_epsilon": "learners: uniform action with probability epsilon in training",
+    "pnn_exploration_epsilon": "PNN: uniform action with probability epsilon in training",
+    "pnn_exploration_epsilon_sine": "PNN: uniform action with probability epsilon on the sine path",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
@@ -730,8 +770,19 @@ def describe_value(name: str, value: Any) -> str:
         return "every sample"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
-    if name in ("pnn_lateral_init_sine", "spnn_gate_sine", "pnn_n_steps_sine") and value is None:
+    if (
+        name
+        in (
+            "pnn_lateral_init_sine",
+            "spnn_gate_sine",
+            "pnn_n_steps_sine",
+            "pnn_exploration_epsilon_sine",
+        )
+        and value is None
+    ):
         return "as on the straight path"
+    if name == "pnn_exploration_epsilon" and value is None:
+        return "as the learners' epsilon"
     if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
         if unit == "episode":

@@ -8,7 +8,7 @@ import math
 import pytest
 
 from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
-from sb3_pnn.reproduce.planning.setups import PAPER, describe_value, parse_setup_changes
+from sb3_pnn.reproduce.planning.setups import OURS, PAPER, describe_value, parse_setup_changes
 from sb3_pnn.reproduce.running.store import RunStore, StudyConflictError
 
 
@@ -369,8 +369,10 @@ def test_sonar_span_and_sectors_reach_every_task_only_off_the_default() -> None:
 def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
     """exploration_epsilon: a DiscreteSAC keyword of the four learners' runs (not the source
     columns'), named only when > 0; a bad value is refused."""
-    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
-    changes = tuple(parse_setup_changes(["exploration_epsilon=0.05"]).items())
+    as_all = (("pnn_exploration_epsilon", None), ("pnn_exploration_epsilon_sine", None))
+    off = StudyConfig(budget_name="tiny", seeds=1, setup_changes=as_all)
+    plain = {s.run_id: s for s in build_plan(off)}
+    changes = as_all + tuple(parse_setup_changes(["exploration_epsilon=0.05"]).items())
     for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
         learner = spec.agent in ("pnn", "spnn", "sac_single", "sac_multi")
         assert spec.sac_kwargs.get("exploration_epsilon") == (0.05 if learner else None)
@@ -379,6 +381,37 @@ def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
     assert all("exploration_epsilon" not in s.sac_kwargs for s in plain.values())
     with pytest.raises(ValueError, match=r"exploration_epsilon=1.0 is not allowed"):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("exploration_epsilon", 1.0),))
+
+
+def test_pnn_exploration_epsilon_is_pnn_s_own_and_the_sine_path_can_differ() -> None:
+    """The default study: PNN explores with epsilon 0.05 on the straight path and 0 on the
+    sinusoid (pnn_exploration_epsilon, pnn_exploration_epsilon_sine); every other run is
+    what exploration_epsilon alone makes it, and None falls back to the factor refined."""
+    default = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    as_all = (("pnn_exploration_epsilon", None), ("pnn_exploration_epsilon_sine", None))
+    plain = {
+        s.run_id: s
+        for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=as_all))
+    }
+    for run_id, spec in default.items():
+        expected = 0.05 if run_id.startswith("pnn-straight") else None
+        assert spec.sac_kwargs.get("exploration_epsilon") == expected, run_id
+        if expected is None:
+            assert spec.config_hash() == plain[run_id].config_hash(), run_id
+    assert OURS.exploration_epsilon_of("pnn", "sine") == 0.0
+    assert OURS.exploration_epsilon_of("spnn", "straight") == 0.0
+    only_pnn = PAPER.with_(exploration_epsilon=0.1, pnn_exploration_epsilon=0.2)
+    assert only_pnn.exploration_epsilon_of("pnn", "sine") == 0.2
+    assert only_pnn.exploration_epsilon_of("sac_multi", "sine") == 0.1
+    with pytest.raises(ValueError, match=r"pnn_exploration_epsilon_sine=0.3.*depends on the path"):
+        PAPER.with_(pnn_exploration_epsilon_sine=0.3).sac_kwargs(agent="pnn")
+    for name, bad in (("pnn_exploration_epsilon", 1.0), ("pnn_exploration_epsilon_sine", -0.1)):
+        with pytest.raises(ValueError, match=rf"{name}={bad!r} is not allowed.*\[0, 1\)"):
+            PAPER.with_(**{name: bad})
+    assert parse_setup_changes(["pnn_exploration_epsilon_sine=null"]) == {
+        "pnn_exploration_epsilon_sine": None
+    }
+    assert describe_value("pnn_exploration_epsilon_sine", None) == "as on the straight path"
 
 
 def test_the_set_up_and_the_policies_name_the_tasks_own_sonar() -> None:
