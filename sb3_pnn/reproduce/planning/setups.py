@@ -516,10 +516,9 @@ class TrainingSetup:
         smoothness = {"spnn": self.spnn_action_smoothness, "pnn": self.pnn_action_smoothness}
         if smoothness.get(agent, 0.0) > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["action_smoothness"] = float(smoothness[agent])
+        # the learners' runs only, named only when on (so earlier runs keep their hash)
         epsilon = self.exploration_epsilon_of(agent, path) if agent and not prior else 0.0
-        if (
-            epsilon > 0
-        ):  # the learners' runs only, named only when on (earlier runs keep their hash)
+        if epsilon > 0:
             kwargs["exploration_epsilon"] = epsilon
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
@@ -636,6 +635,14 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_start_as_prior",
     "pnn_init_from_prior",
     "spnn_init_from_prior",
+)
+
+#: Factors that give the sine path its own value of another factor (None: that factor's).
+SINE_PATH_FACTORS: tuple[str, ...] = (
+    "pnn_lateral_init_sine",
+    "spnn_gate_sine",
+    "pnn_n_steps_sine",
+    "pnn_exploration_epsilon_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -770,16 +777,7 @@ def describe_value(name: str, value: Any) -> str:
         return "every sample"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
-    if (
-        name
-        in (
-            "pnn_lateral_init_sine",
-            "spnn_gate_sine",
-            "pnn_n_steps_sine",
-            "pnn_exploration_epsilon_sine",
-        )
-        and value is None
-    ):
+    if name in SINE_PATH_FACTORS and value is None:
         return "as on the straight path"
     if name == "pnn_exploration_epsilon" and value is None:
         return "as the learners' epsilon"

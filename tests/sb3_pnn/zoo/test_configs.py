@@ -78,6 +78,8 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
         assert entry["gradient_steps"] == sac["gradient_steps"]
         assert entry["learning_starts"] == sac["learning_starts"]
         assert entry.get("n_steps", 1) == sac.get("n_steps", 1), (setup, algo, env_id)
+        epsilon = sac.get("exploration_epsilon", 0.0)
+        assert entry.get("exploration_epsilon", 0.0) == epsilon, (setup, algo, env_id)
         env_kwargs = dict(entry["env_kwargs"])
         expected = training.train_env_kwargs(env_id)  # the path followers' wider start included
         assert env_kwargs.pop("start_noise") == pytest.approx(expected.pop("start_noise"))
