@@ -535,43 +535,34 @@ class TrainingSetup:
         """The learner ``agent``'s exploration epsilon on planning path ``path``: PNN's runs read
         ``pnn_exploration_epsilon`` (and ``pnn_exploration_epsilon_sine`` on the sine path) where
         set, every learner else ``exploration_epsilon``."""
-        epsilon = self.exploration_epsilon
-        if agent == "pnn":
-            own, sine = self.pnn_exploration_epsilon, self.pnn_exploration_epsilon_sine
-            epsilon = epsilon if own is None else own
-            if sine is not None and sine != epsilon:
-                if path not in ("straight", "sine"):
-                    raise ValueError(
-                        f"pnn_exploration_epsilon_sine={sine!r} depends on the path: expected "
-                        "path='straight' or 'sine'"
-                    )
-                epsilon = sine if path == "sine" else epsilon
-        return float(epsilon)
+        if agent != "pnn":
+            return float(self.exploration_epsilon)
+        own = self.pnn_exploration_epsilon
+        epsilon = self.exploration_epsilon if own is None else own
+        return float(self._on_sine_path("pnn_exploration_epsilon_sine", epsilon, path))
 
     def pnn_n_steps_of(self, path: str) -> int:
         """PNN's return length n on planning path ``path`` (``pnn_n_steps_sine`` on the sine
         path when set, else ``pnn_n_steps``)."""
-        sine_n = self.pnn_n_steps_sine
-        if sine_n is None or sine_n == self.pnn_n_steps:
-            return self.pnn_n_steps
-        if path not in ("straight", "sine"):
-            raise ValueError(
-                f"pnn_n_steps_sine={sine_n!r} depends on the path: expected path='straight' "
-                "or 'sine'"
-            )
-        return sine_n if path == "sine" else self.pnn_n_steps
+        return self._on_sine_path("pnn_n_steps_sine", self.pnn_n_steps, path)
 
     def spnn_gate_of(self, path: str) -> str:
         """The SPNN's gate on planning path ``path`` (``spnn_gate_sine`` on the sine path when
         set, else ``spnn_gate``)."""
-        if self.spnn_gate_sine is None or self.spnn_gate_sine == self.spnn_gate:
-            return self.spnn_gate
+        return self._on_sine_path("spnn_gate_sine", self.spnn_gate, path)
+
+    def _on_sine_path(self, name: str, value: Any, path: str) -> Any:
+        """``value`` on planning path ``path``, replaced on the sine path by the factor ``name``
+        (one of :data:`SINE_PATH_FACTORS`) where that is set and differs; a differing
+        refinement needs the path named."""
+        sine = getattr(self, name)
+        if sine is None or sine == value:
+            return value
         if path not in ("straight", "sine"):
             raise ValueError(
-                f"spnn_gate_sine={self.spnn_gate_sine!r} depends on the path: expected "
-                "path='straight' or 'sine'"
+                f"{name}={sine!r} depends on the path: expected path='straight' or 'sine'"
             )
-        return self.spnn_gate_sine if path == "sine" else self.spnn_gate
+        return sine if path == "sine" else value
 
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
