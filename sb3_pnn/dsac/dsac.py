@@ -47,7 +47,7 @@ from stable_baselines3.common.vec_env import VecEnv
 from torch.nn import functional as F
 
 from sb3_pnn.common.buffers import DictNStepReplayBuffer
-from sb3_pnn.common.checks import check_step_budget
+from sb3_pnn.common.checks import check_step_budget, is_finite_number
 from sb3_pnn.dsac.policies import (
     PAPER_NET_ARCH,
     DiscreteActor,
@@ -282,11 +282,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
             raise ValueError(
                 f"target_entropy_ratio must be in (0, 1], got {target_entropy_ratio!r}"
             )
-        if not (
-            isinstance(exploration_epsilon, (int, float))
-            and not isinstance(exploration_epsilon, bool)
-            and 0.0 <= exploration_epsilon < 1.0
-        ):
+        if not (is_finite_number(exploration_epsilon) and 0.0 <= exploration_epsilon < 1.0):
             raise ValueError(f"exploration_epsilon must be in [0, 1), got {exploration_epsilon!r}")
         if not (isinstance(tau, (int, float)) and 0.0 <= tau <= 1.0):
             raise ValueError(f"tau (Polyak coefficient) must be in [0, 1], got {tau!r}")
