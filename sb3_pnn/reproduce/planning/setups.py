@@ -38,6 +38,9 @@ Factors:
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
 * ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
   the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
+  ``learner_target_entropy_ratio`` gives the four learners' runs their own fraction (None:
+  ``target_entropy_ratio``; the source columns always read ``target_entropy_ratio``): at 0.5 the
+  policy keeps about a 50/50 mixture of two actions in every state.
 * ``pnn_lateral_init``: PNN's lateral connections (eq. 13) are scaled by a learned scalar per
   lateral, as in Rusu et al. (2016); this is its initial value. 1 starts from eq. 13 as written;
   0 starts the new column as a network without priors (SAC-Single) that learns how much of the
@@ -210,6 +213,7 @@ class TrainingSetup:
     progress_weighted: bool = False
     net_arch: tuple[int, ...] = (255, 255)
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
+    learner_target_entropy_ratio: float | None = None
     keep_best: bool = False
     pnn_lateral_init: float = 1.0
     pnn_lateral_init_sine: float | None = None
@@ -282,11 +286,19 @@ class TrainingSetup:
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
                 "the best candidate is chosen on its validation checks (keep_best=true)"
             )
-        if not 0.0 < float(self.target_entropy_ratio) <= 1.0:
-            raise ValueError(
-                f"target_entropy_ratio={self.target_entropy_ratio!r} is not allowed: "
-                "expected a number in (0, 1]"
-            )
+        for name in ("target_entropy_ratio", "learner_target_entropy_ratio"):
+            value = getattr(self, name)
+            if name != "target_entropy_ratio" and value is None:
+                continue
+            if not (is_finite_number(value) and 0.0 < value <= 1.0):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected a number in (0, 1]"
+                    + (
+                        ""
+                        if name == "target_entropy_ratio"
+                        else ", or None for target_entropy_ratio"
+                    )
+                )
         for name in (
             "exploration_epsilon",
             "pnn_exploration_epsilon",
@@ -502,8 +514,9 @@ class TrainingSetup:
         batch_size = self.prior_batch_size if prior and self.prior_batch_size else self.batch_size
         # Named only when it departs from DiscreteSAC's default, so that the specs (and result
         # hashes) of runs made before this factor existed stay the same.
-        if self.target_entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
-            kwargs["target_entropy_ratio"] = float(self.target_entropy_ratio)
+        entropy_ratio = self.target_entropy_ratio_of(agent if not prior else "")
+        if entropy_ratio != DEFAULT_TARGET_ENTROPY_RATIO:
+            kwargs["target_entropy_ratio"] = entropy_ratio
         if batch_size != PAPER_BATCH_SIZE:
             kwargs["batch_size"] = batch_size
         for name, (reader, key) in AGENT_FACTORS.items():  # written always: the policies'
@@ -530,6 +543,13 @@ class TrainingSetup:
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         return kwargs
+
+    def target_entropy_ratio_of(self, agent: str) -> float:
+        """The target entropy's fraction of log|A| for a run of learner ``agent`` (``""``: a
+        source column): ``learner_target_entropy_ratio`` for the learners where set, else
+        ``target_entropy_ratio``."""
+        own = self.learner_target_entropy_ratio
+        return float(self.target_entropy_ratio if not agent or own is None else own)
 
     def exploration_epsilon_of(self, agent: str, path: str) -> float:
         """The learner ``agent``'s exploration epsilon on planning path ``path``: PNN's runs read
@@ -709,6 +729,7 @@ FACTOR_LABELS: dict[str, str] = {
     "progress_weighted": "r_c weighted by progress",
     "net_arch": "hidden layers",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
+    "learner_target_entropy_ratio": "learners' target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
@@ -772,6 +793,8 @@ def describe_value(name: str, value: Any) -> str:
         return "as on the straight path"
     if name == "pnn_exploration_epsilon" and value is None:
         return "as the learners' epsilon"
+    if name == "learner_target_entropy_ratio" and value is None:
+        return "as the source columns'"
     if name in ("updates", "prior_updates"):
         (freq, unit), steps = parse_updates(value)
         if unit == "episode":

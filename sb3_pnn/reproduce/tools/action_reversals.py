@@ -9,6 +9,9 @@ right or right after left), the share of "Go straight" steps, and the share of s
 reading jumps by more than ``--jump`` metres from the step before: with a sonar span under 360
 degrees an obstacle beside the vehicle leaves the view when it turns away and comes back when it
 turns toward it, so the reading (and SPNN's gate, which switches at d_th) flips with the turns.
+It also prints the mean surge speed the steps leave the vehicle at: Table 1's turns drive two of
+the four horizontal thrusters, so an agent that alternates turns where "Go straight" would do
+crosses a field slower, and a task's time limit (2 x the route at 1 m/s) ends it.
 Episodes run on the validation seeds (20000+, never the study's evaluation seeds 10000+) with
 the run's env keywords; nothing is chosen here.
 
@@ -47,15 +50,22 @@ def band_names(sonar_range: float) -> list[str]:
 
 
 def step_counts(
-    actions: Sequence[int], nearest: Sequence[float], sonar_range: float, jump: float
+    actions: Sequence[int],
+    nearest: Sequence[float],
+    sonar_range: float,
+    jump: float,
+    surge: Sequence[float] | None = None,
 ) -> Counter:
     """Per (band, what) step counts of one episode: "steps", "reversals" (the turn's side is the
     opposite of the step before), "straight" and "jumps" (the reading moved by more than
     ``jump`` m since the step before); the first step has no step before (no reversal or jump).
-    ``nearest[t]`` is the reading the policy observed before choosing ``actions[t]``."""
+    ``nearest[t]`` is the reading the policy observed before choosing ``actions[t]``; with
+    ``surge`` (m/s after each step) also "surge", the band's sum of it."""
     actions, nearest = np.asarray(actions), np.asarray(nearest, dtype=float)
     if actions.shape != nearest.shape:
         raise ValueError(f"{actions.shape} actions but {nearest.shape} readings")
+    if surge is not None and np.shape(surge) != actions.shape:
+        raise ValueError(f"{actions.shape} actions but {np.shape(surge)} surge speeds")
     side = np.where(np.isin(actions, LEFT), -1, np.where(np.isin(actions, RIGHT), 1, 0))
     reversal = np.r_[False, side[1:] * side[:-1] < 0]
     jumped = np.r_[False, np.abs(np.diff(nearest)) > jump]
@@ -69,6 +79,8 @@ def step_counts(
         counts[(name, "reversals")] += int(reversal[here].sum())
         counts[(name, "straight")] += int((actions[here] == STRAIGHT).sum())
         counts[(name, "jumps")] += int(jumped[here].sum())
+        if surge is not None:
+            counts[(name, "surge")] += float(np.asarray(surge, dtype=float)[here].sum())
     return counts
 
 
@@ -77,21 +89,23 @@ def run_episodes(
 ) -> tuple[Counter, Counter]:
     """Step counts (:func:`step_counts`) over ``episodes`` deterministic episodes from
     ``seed`` of ``model`` (a trained agent or a PID baseline, whose memory is reset at each
-    start; sonar readings are distance / ``sonar_range``), and how the episodes ended."""
+    start; sonar readings are distance / ``sonar_range``), and how the episodes ended. The
+    surge speed is read from the env's ``info["velocity"]`` where it gives one (rov_envs do)."""
     counts: Counter = Counter()
     ends: Counter = Counter()
     for episode in range(episodes):
         obs, info = env.reset(seed=seed + episode)
         if hasattr(model, "reset"):
             model.reset()
-        actions, nearest, done = [], [], False
+        actions, nearest, surge, done = [], [], [], False
         while not done:
             action, _ = model.predict(obs, deterministic=True)
             actions.append(int(action))
             nearest.append(float(np.min(obs["sonar"])) * sonar_range)
             obs, _, terminated, truncated, info = env.step(action)
+            surge.append(float(info["velocity"][0]) if "velocity" in info else np.nan)
             done = terminated or truncated
-        counts += step_counts(actions, nearest, sonar_range, jump)
+        counts += step_counts(actions, nearest, sonar_range, jump, surge)
         ends[info.get("end_reason", "none")] += 1
     return counts, ends
 
@@ -100,8 +114,8 @@ def table(rows: list[tuple[int, Counter, Counter]], sonar_range: float) -> list[
     """Markdown rows: per seed and band, the step shares."""
     lines = [
         "| seed | nearest reading | steps | reversals | Go straight | reading jumps "
-        "| episodes ended by |",
-        "|---|---|---|---|---|---|---|",
+        "| mean surge | episodes ended by |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for seed, counts, ends in rows:
         for name in band_names(sonar_range):
@@ -111,7 +125,7 @@ def table(rows: list[tuple[int, Counter, Counter]], sonar_range: float) -> list[
                 lines.append(
                     f"| {seed} | {name} | {steps} | {100 * share['reversals']:.0f} % "
                     f"| {100 * share['straight']:.0f} % | {100 * share['jumps']:.0f} % "
-                    f"| {ended(ends)} |"
+                    f"| {counts[(name, 'surge')] / steps:.2f} m/s | {ended(ends)} |"
                 )
     return lines
 

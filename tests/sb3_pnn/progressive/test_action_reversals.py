@@ -13,7 +13,8 @@ def test_counts_by_band_match_a_hand_count():
     # sides: left, right, left, straight, right, left; readings in 0-5, 5-8 and out of view
     actions = [0, 4, 0, 2, 3, 1]
     nearest = [4.0, 4.0, 6.0, 6.0, 25.0, 25.0]
-    counts = step_counts(actions, nearest, sonar_range=25.0, jump=3.0)
+    surge = [0.5, 0.6, 0.7, 1.0, 0.6, 0.5]  # m/s after each step
+    counts = step_counts(actions, nearest, sonar_range=25.0, jump=3.0, surge=surge)
     near, penalty, none = band_names(25.0)[0], band_names(25.0)[1], band_names(25.0)[-1]
     assert (near, penalty, none) == ("0-5 m", "5-8 m", "nothing in view")
     expected = {
@@ -23,9 +24,13 @@ def test_counts_by_band_match_a_hand_count():
     }
     for band, what in expected.items():
         assert {w: counts[(band, w)] for w in what} == what, band
+    assert counts[(near, "surge")] == pytest.approx(1.1)  # summed per band: 0.5 + 0.6
+    assert counts[(penalty, "surge")] == pytest.approx(1.7)
     assert sum(counts[(b, "steps")] for b in band_names(25.0)) == len(actions)
     with pytest.raises(ValueError, match=r"\(3,\) actions but \(2,\) readings"):
         step_counts([0, 1, 2], [1.0, 2.0], 25.0, 3.0)
+    with pytest.raises(ValueError, match=r"\(3,\) actions but \(1,\) surge speeds"):
+        step_counts([0, 1, 2], [1.0, 2.0, 3.0], 25.0, 3.0, surge=[1.0])
 
 
 def test_episodes_are_counted_step_by_step(priors):

@@ -431,3 +431,25 @@ def test_the_set_up_and_the_policies_name_the_tasks_own_sonar() -> None:
         assert setup.sonar_sectors == SONAR_SECTORS
     assert POLICY_RANGE == SONAR_RANGE
     assert SONAR_KEY in gym.make("rov_envs/PlanningStraight-v0").observation_space.spaces
+
+
+def test_learner_target_entropy_reaches_the_learners_only() -> None:
+    """learner_target_entropy_ratio: the four learners' target entropy (named only off the
+    default 0.5), the source columns keep target_entropy_ratio and their hashes; None falls
+    back; a bad value is refused naming it."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["learner_target_entropy_ratio=0.2"]).items())
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        learner = spec.agent in ("pnn", "spnn", "sac_single", "sac_multi")
+        assert spec.sac_kwargs.get("target_entropy_ratio") == (0.2 if learner else None)
+        if not learner:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all("target_entropy_ratio" not in s.sac_kwargs for s in plain.values())
+    both = PAPER.with_(target_entropy_ratio=0.3)
+    assert both.target_entropy_ratio_of("spnn") == both.target_entropy_ratio_of("") == 0.3
+    own = both.with_(learner_target_entropy_ratio=0.2)
+    assert (own.target_entropy_ratio_of("pnn"), own.target_entropy_ratio_of("")) == (0.2, 0.3)
+    for bad in (0.0, 1.5, float("nan"), "x"):
+        with pytest.raises(ValueError, match=rf"learner_target_entropy_ratio={bad!r} is not"):
+            PAPER.with_(learner_target_entropy_ratio=bad)
+    assert describe_value("learner_target_entropy_ratio", None) == "as the source columns'"

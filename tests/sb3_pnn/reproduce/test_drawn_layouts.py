@@ -1,0 +1,51 @@
+"""The drawn-layout validation measure: a run's kept policy among scatter-drawn obstacles."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
+from sb3_pnn.reproduce.tools.drawn_layouts import main
+
+
+def _pid_run(tmp_path, env_kwargs):
+    run = tmp_path / "runs" / "adaptive_pid-straight"
+    run.mkdir(parents=True)
+    (run / "manifest.json").write_text(json.dumps({"agent": "adaptive_pid"}))
+    (run / "eval.json").write_text(json.dumps({"original": {"env_kwargs": env_kwargs}}))
+
+
+def test_a_run_is_replayed_among_drawn_obstacles_on_validation_seeds(tmp_path, capsys):
+    """The success printed is the run's policy on its task with layout='scatter' and the run's
+    env keywords, episodes from the validation seed 20000; not the task's fixed obstacles."""
+    _pid_run(tmp_path, {"control_period": 0.5})
+    assert main([str(tmp_path), "--agent", "adaptive_pid", "--episodes", "3"]) == 0
+    out = capsys.readouterr().out
+    env = "rov_envs/PlanningStraight-v0"
+    drawn = evaluate_policy_on_task(
+        "adaptive_pid", env, 3, 20000, env_kwargs={"control_period": 0.5, "layout": "scatter"}
+    )
+    assert f"| 0 | {100 * drawn.success_rate:.0f} % |" in out
+    assert f"mean success {100 * drawn.success_rate:.1f} % over 1 run(s)" in out
+    fixed = evaluate_policy_on_task(
+        "adaptive_pid", env, 3, 20000, env_kwargs={"control_period": 0.5}
+    )
+    assert fixed.success_rate != drawn.success_rate  # so the line above tells the layouts apart
+
+
+def test_a_missing_run_or_model_stops_with_a_message(tmp_path, capsys):
+    """(The task arguments are the replay tools' shared parser, tested with action_reversals.)"""
+    with pytest.raises(SystemExit) as stop:
+        main([str(tmp_path), "--seeds", "0"])
+    assert stop.value.code == 2
+    assert "spnn-straight-s0/eval.json does not exist: expected a finished run" in (
+        capsys.readouterr().err
+    )
+    run = tmp_path / "runs" / "spnn-straight-s0"
+    run.mkdir(parents=True)
+    (run / "eval.json").write_text(json.dumps({"original": {"env_kwargs": {}}}))
+    with pytest.raises(SystemExit):
+        main([str(tmp_path), "--seeds", "0"])
+    assert "spnn-straight-s0/model.zip does not exist" in capsys.readouterr().err
