@@ -159,7 +159,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
@@ -286,36 +286,18 @@ class TrainingSetup:
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
                 "the best candidate is chosen on its validation checks (keep_best=true)"
             )
-        for name in ("target_entropy_ratio", "learner_target_entropy_ratio"):
-            value = getattr(self, name)
-            if name != "target_entropy_ratio" and value is None:
-                continue
-            if not (is_finite_number(value) and 0.0 < value <= 1.0):
-                raise ValueError(
-                    f"{name}={value!r} is not allowed: expected a number in (0, 1]"
-                    + (
-                        ""
-                        if name == "target_entropy_ratio"
-                        else ", or None for target_entropy_ratio"
-                    )
-                )
-        for name in (
-            "exploration_epsilon",
-            "pnn_exploration_epsilon",
-            "pnn_exploration_epsilon_sine",
-        ):
-            value = getattr(self, name)
-            if name != "exploration_epsilon" and value is None:
-                continue
-            if not (is_finite_number(value) and 0 <= value < 1):
-                raise ValueError(
-                    f"{name}={value!r} is not allowed: expected a probability in [0, 1)"
-                    + (
-                        ""
-                        if name == "exploration_epsilon"
-                        else ", or None for the factor it refines"
-                    )
-                )
+        _check_refined_numbers(
+            self,
+            ("target_entropy_ratio", "learner_target_entropy_ratio"),
+            lambda value: 0.0 < value <= 1.0,
+            "a number in (0, 1]",
+        )
+        _check_refined_numbers(
+            self,
+            ("exploration_epsilon", "pnn_exploration_epsilon", "pnn_exploration_epsilon_sine"),
+            lambda value: 0.0 <= value < 1.0,
+            "a probability in [0, 1)",
+        )
         if not (is_finite_number(self.sonar_span) and 0.0 < self.sonar_span <= 360.0):
             raise ValueError(
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
@@ -640,6 +622,24 @@ PATH_CHOICES: dict[str, tuple[str, ...]] = {
     "sine": ("sine",),
     "neither": (),
 }
+
+
+def _check_refined_numbers(
+    setup: TrainingSetup, names: Sequence[str], within: Callable[[float], bool], expected: str
+) -> None:
+    """Refuse a bad value of the number factor ``names[0]`` or of the factors that refine it in
+    turn (``names[1:]``, each None for the value of the one before it): every value set must be
+    a finite number for which ``within`` holds; the error names the factor, its value and
+    ``expected``."""
+    for index, name in enumerate(names):
+        value = getattr(setup, name)
+        if index and value is None:
+            continue
+        if not (is_finite_number(value) and within(value)):
+            refines = f", or None for {names[index - 1]}'s value" if index else ""
+            raise ValueError(f"{name}={value!r} is not allowed: expected {expected}{refines}")
+
+
 #: Factors whose value names the planning paths they are on for.
 PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_critic_priors",
