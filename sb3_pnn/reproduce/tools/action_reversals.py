@@ -11,7 +11,8 @@ degrees an obstacle beside the vehicle leaves the view when it turns away and co
 turns toward it, so the reading (and SPNN's gate, which switches at d_th) flips with the turns.
 It also prints the mean surge speed the steps leave the vehicle at: Table 1's turns drive two of
 the four horizontal thrusters, so an agent that alternates turns where "Go straight" would do
-crosses a field slower, and a task's time limit (2 x the route at 1 m/s) ends it.
+crosses a field slower, and a task's time limit (2 x the route at 1 m/s) ends it. Last, per
+seed, the share of each action over all steps.
 Episodes run on the validation seeds (20000+, never the study's evaluation seeds 10000+) with
 the run's env keywords; nothing is chosen here.
 
@@ -31,6 +32,7 @@ import gymnasium as gym
 import numpy as np
 import torch as th
 
+from rov_envs.physics.thrusters import ACTION_NAMES
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.callbacks import VALIDATION_SEED
 from sb3_pnn.reproduce.tools.replay import ended, load_run, task_id, task_parser
@@ -60,7 +62,8 @@ def step_counts(
     opposite of the step before), "straight" and "jumps" (the reading moved by more than
     ``jump`` m since the step before); the first step has no step before (no reversal or jump).
     ``nearest[t]`` is the reading the policy observed before choosing ``actions[t]``; with
-    ``surge`` (m/s after each step) also "surge", the band's sum of it."""
+    ``surge`` (m/s after each step) also "surge", the band's sum of it. ``("action", a)``
+    counts the steps of action ``a`` over all bands."""
     actions, nearest = np.asarray(actions), np.asarray(nearest, dtype=float)
     if actions.shape != nearest.shape:
         raise ValueError(f"{actions.shape} actions but {nearest.shape} readings")
@@ -72,7 +75,7 @@ def step_counts(
     names = band_names(sonar_range)
     band = np.digitize(nearest, BAND_EDGES)
     band[nearest >= sonar_range - 1e-6] = len(names) - 1
-    counts: Counter = Counter()
+    counts: Counter = Counter(("action", int(a)) for a in actions)
     for index, name in enumerate(names):
         here = band == index
         counts[(name, "steps")] += int(here.sum())
@@ -130,6 +133,19 @@ def table(rows: list[tuple[int, Counter, Counter]], sonar_range: float) -> list[
     return lines
 
 
+def action_shares(rows: list[tuple[int, Counter, Counter]]) -> str:
+    """Per seed, the share of each of Table 1's actions over all steps: a run that weaves with
+    a pair of unequal opposite turns (Turn left 2 and Turn right 1) shows it here."""
+    lines = ["actions per seed (" + ", ".join(ACTION_NAMES) + "):"]
+    for seed, counts, _ in rows:
+        steps = sum(counts[("action", a)] for a in range(len(ACTION_NAMES)))
+        shares = " / ".join(
+            f"{100 * counts[('action', a)] / max(steps, 1):.0f}" for a in range(len(ACTION_NAMES))
+        )
+        lines.append(f"  seed {seed}: {shares} %")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = task_parser(__doc__, episodes=20)
     parser.add_argument(
@@ -155,6 +171,7 @@ def main(argv: list[str] | None = None) -> int:
         env.close()
     print(f"{args.agent} on {env_id}, {args.episodes} validation episodes per seed")
     print("\n".join(table(rows, sonar_range)))
+    print(action_shares(rows))
     return 0
 
 

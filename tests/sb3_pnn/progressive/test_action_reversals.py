@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+from collections import Counter
+
 import pytest
 from progressive_helpers import ToyRovEnv, toy_model
 
 from sb3_pnn import SelectivePolicy
-from sb3_pnn.reproduce.tools.action_reversals import band_names, main, run_episodes, step_counts
+from sb3_pnn.reproduce.tools.action_reversals import (
+    action_shares,
+    band_names,
+    main,
+    run_episodes,
+    step_counts,
+)
 
 
 def test_counts_by_band_match_a_hand_count():
@@ -27,6 +35,9 @@ def test_counts_by_band_match_a_hand_count():
     assert counts[(near, "surge")] == pytest.approx(1.1)  # summed per band: 0.5 + 0.6
     assert counts[(penalty, "surge")] == pytest.approx(1.7)
     assert sum(counts[(b, "steps")] for b in band_names(25.0)) == len(actions)
+    assert [counts[("action", a)] for a in range(5)] == [2, 1, 1, 1, 1]
+    lines = action_shares([(7, counts, Counter())]).splitlines()
+    assert lines[1] == "  seed 7: 33 / 17 / 17 / 17 / 17 %"  # 2, 1, 1, 1, 1 of 6 steps
     with pytest.raises(ValueError, match=r"\(3,\) actions but \(2,\) readings"):
         step_counts([0, 1, 2], [1.0, 2.0], 25.0, 3.0)
     with pytest.raises(ValueError, match=r"\(3,\) actions but \(1,\) surge speeds"):
