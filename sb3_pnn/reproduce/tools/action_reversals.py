@@ -33,9 +33,8 @@ import numpy as np
 import torch as th
 
 from rov_envs.physics.thrusters import ACTION_NAMES
-from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.callbacks import VALIDATION_SEED
-from sb3_pnn.reproduce.tools.replay import ended, load_run, task_id, task_parser
+from sb3_pnn.reproduce.tools.replay import ended, load_run, run_folders, task_id, task_parser
 
 #: Bands of the nearest reading (m): eq. 20's penalty bands (d <= 5, 5 < d <= 8), then up to
 #: and beyond eq. 15's d_th = 12.5 m, and the sonar's range (nothing in view).
@@ -159,10 +158,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--jump {args.jump!r} is not allowed: expected a distance > 0 (m)")
     th.set_num_threads(1)
     rows, sonar_range = [], 0.0
-    baseline = args.agent in BASELINE_NAMES  # one run per path, no training seed
-    for seed in [0] if baseline else args.seeds:
-        name = f"{args.agent}-{args.path}" + ("" if baseline else f"-s{seed}")
-        model, env = load_run(parser, args.study / "runs" / name, env_id)
+    for seed, run in run_folders(args.study, args.agent, args.path, args.seeds):
+        model, env = load_run(parser, run, env_id)
         if "sonar" not in env.observation_space.spaces:
             parser.error(f"{env_id} has no sonar: expected a task with obstacles")
         sonar_range = float(env.unwrapped.config.sonar_range)

@@ -16,16 +16,18 @@ Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path 
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import torch as th
 
-from sb3_pnn import DiscreteSAC
-from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.callbacks import VALIDATION_SEED
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
-from sb3_pnn.reproduce.tools.replay import task_id, task_parser
+from sb3_pnn.reproduce.tools.replay import (
+    run_env_kwargs,
+    run_folders,
+    run_model,
+    task_id,
+    task_parser,
+)
 
 #: The generator whose layouts the measure draws (rov_envs.sim.layouts): not an evaluation one.
 LAYOUT = "scatter"
@@ -40,22 +42,13 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)
-    baseline = args.agent in BASELINE_NAMES  # one run per path, no training seed
     rates = []
     print(f"{args.agent} on {env_id} with layout={LAYOUT!r}, {args.episodes} validation episodes")
     print("| seed | success | episodes ended by |\n|---|---|---|")
-    for seed in [0] if baseline else args.seeds:
-        run = (
-            args.study / "runs" / (f"{args.agent}-{args.path}" + ("" if baseline else f"-s{seed}"))
-        )
-        eval_file = run / "eval.json"
-        if not eval_file.is_file():
-            parser.error(f"{eval_file} does not exist: expected a finished run of a study")
-        env_kwargs = dict(json.loads(eval_file.read_text())["original"]["env_kwargs"])
-        env_kwargs["layout"] = LAYOUT
-        if not baseline and not (run / "model.zip").is_file():
-            parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
-        policy = args.agent if baseline else DiscreteSAC.load(run / "model.zip", device="cpu")
+    for seed, run in run_folders(args.study, args.agent, args.path, args.seeds):
+        env_kwargs = dict(run_env_kwargs(parser, run), layout=LAYOUT)
+        model = run_model(parser, run)
+        policy = args.agent if model is None else model
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
         )

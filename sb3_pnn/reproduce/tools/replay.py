@@ -37,19 +37,44 @@ def task_id(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
     return env_id
 
 
+def run_folders(study: Path, agent: str, path: str, seeds: list[int]) -> list[tuple[int, Path]]:
+    """``(seed, folder)`` of a study's runs of ``agent`` on planning path ``path``: one per
+    training seed, or the one run of a PID baseline (no training seed; listed as seed 0)."""
+    if agent in BASELINE_NAMES:
+        return [(0, study / "runs" / f"{agent}-{path}")]
+    return [(seed, study / "runs" / f"{agent}-{path}-s{seed}") for seed in seeds]
+
+
+def run_env_kwargs(parser: argparse.ArgumentParser, run: Path) -> dict[str, Any]:
+    """The env keywords of the run's evaluation; a run without one stops the command."""
+    eval_file = run / "eval.json"
+    if not eval_file.is_file():
+        parser.error(f"{eval_file} does not exist: expected a finished run of a study")
+    return dict(json.loads(eval_file.read_text())["original"]["env_kwargs"])
+
+
+def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
+    """The run's kept model, None for a PID baseline's run (its manifest names the baseline); a
+    missing model stops the command with a message."""
+    manifest = run / "manifest.json"
+    baseline = json.loads(manifest.read_text()).get("agent") if manifest.exists() else None
+    if baseline in BASELINE_NAMES:
+        return None
+    if not (run / "model.zip").exists():
+        parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
+    return DiscreteSAC.load(run / "model.zip", device="cpu")
+
+
 def load_run(parser: argparse.ArgumentParser, run: Path, env_id: str) -> tuple[Any, gym.Env]:
     """The run's policy (its model, or the PID baseline the run evaluated) and ``env_id`` made
     with the env keywords of the run's evaluation; a missing run stops the command with a
     message."""
-    manifest = run / "manifest.json"
-    baseline = json.loads(manifest.read_text()).get("agent") if manifest.exists() else None
-    if baseline not in BASELINE_NAMES and not (run / "model.zip").exists():
-        parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
-    env_kwargs = json.loads((run / "eval.json").read_text())["original"]["env_kwargs"]
-    env = gym.make(env_id, **env_kwargs)
-    if baseline in BASELINE_NAMES:
+    model = run_model(parser, run)
+    env = gym.make(env_id, **run_env_kwargs(parser, run))
+    if model is None:
+        baseline = json.loads((run / "manifest.json").read_text())["agent"]
         return make_baseline(baseline, env), env
-    return DiscreteSAC.load(run / "model.zip", device="cpu"), env
+    return model, env
 
 
 def ended(ends: Counter) -> str:
