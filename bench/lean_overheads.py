@@ -1,16 +1,21 @@
-"""The lean ``predict`` and fused-Adam step against SB3's ``predict`` and PyTorch's ``Adam.step``.
+"""The lean ``predict``, fused-Adam step and deferred gate counting against SB3's ``predict``,
+PyTorch's ``Adam.step`` and a gate count per prediction.
 
 Both lean paths give the same bits as the ones they replace (tests/dsac/test_lean_*.py); this
 times what they save. For the study's SPNN and PNN on PlanningStraight-v0 ([64, 64], batch 256,
 one torch thread, untrained priors of the study's sizes) it prints, per learner, the cost of
 
-* ``predict`` of one observation: SB3's ``BasePolicy.predict`` (the anchor) vs the package's;
+* ``predict`` of one observation: SB3's ``BasePolicy.predict`` with SPNN's gate-lead counts
+  added up on every call (``PENDING_LEADS = 1``; the anchor) vs the package's (counted when
+  read);
 * one critic optimizer step (gradients in place): ``torch.optim.Adam(fused=True)`` (anchor) vs
   :class:`sb3_pnn.dsac.lean_adam.LeanFusedAdam`, on the same parameters;
 * the study's cycle at one update per 4 steps (``train(1)`` + 4 ``predict``, no environment):
   the same model with SB3's predict and PyTorch's Adam put back (anchor) vs as built.
 
-Rounds alternate between anchor and lean, the median of ``--repeats`` rounds is kept.
+and, for SPNN alone, ``predict`` with the gate-lead count added up on every call (anchor) vs
+counted when read, on the same lean model. Rounds alternate between anchor and lean, the
+median of ``--repeats`` rounds is kept.
 
 Usage: python bench/lean_overheads.py [--cycles 300] [--repeats 3]
 """
@@ -34,8 +39,10 @@ from sb3_pnn import DiscreteSAC
 
 
 def _with_sb3_paths(model: DiscreteSAC) -> DiscreteSAC:
-    """The model with SB3's ``predict`` and PyTorch's fused ``Adam`` (same state) put back."""
+    """The model with SB3's ``predict``, PyTorch's fused ``Adam`` (same state) and a gate-lead
+    count on every prediction put back."""
     model.policy.predict = types.MethodType(BasePolicy.predict, model.policy)  # type: ignore[method-assign]
+    model.actor.PENDING_LEADS = 1  # type: ignore[union-attr]
     for net in (model.actor, model.critic):
         lean = net.optimizer
         plain = th.optim.Adam(lean.param_groups[0]["params"], **lean.defaults)
@@ -81,6 +88,19 @@ def main() -> None:
                 f"  {name:<5} {label:<32} SB3 / PyTorch (anchor) {anchor:8.2f}   "
                 f"lean {lean:8.2f}   {lean / anchor:4.2f}x"
             )
+    actor = pairs["SPNN"]["lean"].actor
+    counted: dict[str, list[float]] = {"per call": [], "when read": []}
+    for _ in range(args.repeats):
+        for which in counted:
+            actor.PENDING_LEADS = 1 if which == "per call" else type(actor).PENDING_LEADS
+            counted[which].append(
+                _us_per_call(lambda: pairs["SPNN"]["lean"].predict(obs), 20 * args.cycles)
+            )
+    per_call, when_read = (statistics.median(counted[k]) for k in counted)
+    print(
+        f"  SPNN  predict, gate leads (us)         per call (anchor) {per_call:8.2f}   "
+        f"when read {when_read:8.2f}   {when_read / per_call:4.2f}x"
+    )
 
 
 if __name__ == "__main__":

@@ -110,9 +110,10 @@ class ProgressiveActor(BasePolicy):
         self.gate = gate
         self.sigma = sigma
         self.own_weight = own_weight
-        n = len(feeds)
-        # Column-lead counts since the last extra_logs(): [rollout steps, training batches]
-        self.lead_counts = th.zeros(2, n)
+        # Column-lead counts since the last extra_logs(): [rollout steps, training batches];
+        # the gate weights of each pass wait in _pending_leads until lead_counts is read
+        self._lead_counts = th.zeros(2, len(feeds))
+        self._pending_leads: tuple[list[th.Tensor], list[th.Tensor]] = ([], [])
 
     def forward(self, obs: PyTorchObs) -> th.Tensor:
         """Logits (B, n_actions) of column k."""
@@ -156,19 +157,45 @@ class ProgressiveActor(BasePolicy):
             return None
         return self.kl_gate(obs)[:, 0]
 
+    #: Gate-weight tensors held per row before they are counted (bounds their memory when
+    #: many predictions run without a training call, e.g. an evaluation).
+    PENDING_LEADS = 256
+
+    @property
+    def lead_counts(self) -> th.Tensor:
+        """(2, n_priors) counts of the samples on which each prior column led (the gate's
+        largest weight) since they were last zeroed: row 0 rollout / evaluation steps (eval
+        mode), row 1 the actor-loss passes (training mode, with gradients)."""
+        self._flush_leads()
+        return self._lead_counts
+
     def _count_leads(self, g: th.Tensor) -> None:
         # Rollout steps are predicted in eval mode; the actor-loss pass is a training pass with
-        # gradients (the TD-target pass runs without gradients and is not counted).
+        # gradients (the TD-target pass runs without gradients and is not counted). Counting
+        # waits for lead_counts: an argmax and bincount per prediction cost about a tenth of SPNN's
+        # predict; counted at once, the counts are the same integers.
         if not self.training:
             row = 0
         elif th.is_grad_enabled():
             row = 1
         else:
             return
-        with th.no_grad():
-            if self.lead_counts.device != g.device:
-                self.lead_counts = self.lead_counts.to(g.device)
-            self.lead_counts[row] += th.bincount(g.argmax(dim=1), minlength=g.shape[1])
+        pending = self._pending_leads[row]
+        pending.append(g.detach())
+        if len(pending) >= self.PENDING_LEADS:
+            self._flush_leads()
+
+    def _flush_leads(self) -> None:
+        """Add the pending gate weights to the counts."""
+        for row, pending in enumerate(self._pending_leads):
+            if not pending:
+                continue
+            g = th.cat(pending) if len(pending) > 1 else pending[0]
+            pending.clear()
+            with th.no_grad():
+                if self._lead_counts.device != g.device:
+                    self._lead_counts = self._lead_counts.to(g.device)
+                self._lead_counts[row] += th.bincount(g.argmax(dim=1), minlength=g.shape[1])
 
     def _predict(self, observation: PyTorchObs, deterministic: bool = False) -> th.Tensor:
         return actions_from_logits(self(observation), deterministic)

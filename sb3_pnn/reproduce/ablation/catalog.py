@@ -118,6 +118,9 @@ NOT_ABLATED: dict[str, str] = {
     "pnn_exploration_epsilon": _ONLY_PNN
     + "by retraining PNN's runs on seeds 0-2 and on fresh seeds 5-9 (docs/ablation/README.md, "
     "section 14)",
+    "planning_start_spread": "measured by retraining the study's SPNN and PNN runs on seeds "
+    "0-2 at 5x, with a validation measure of generalization (docs/ablation/README.md, "
+    "section 15)",
     "learner_target_entropy_ratio": "it differs from target_entropy_ratio (whose cell trains "
     "source columns and learners alike) only by keeping the source columns; measured by "
     "retraining the study's SPNN and PNN runs on seeds 0-2 and on fresh straight-path seeds "

@@ -28,6 +28,7 @@ Factors:
 * ``pf_start_spread``: with ``train_start_noise``, the path-following source columns train from
   a start pose perturbed by this multiple of (1 m, 5 deg) instead (None: 1), so that the column
   learns to come back to the path from as far as the avoidance column leaves the vehicle.
+  ``planning_start_spread`` is the same multiple for the learners' planning tasks (None: 1).
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
   paper's state is o = [a_c, g, d_1..d_q] (section 4.2.2).
 * ``success_reward``: reward on reaching the target (0 = eq. 17-21 literally).
@@ -208,6 +209,7 @@ class TrainingSetup:
     prior_batch_size: int = 0
     train_start_noise: bool = False
     pf_start_spread: float | None = None
+    planning_start_spread: float | None = None
     motion_obs: bool = False
     success_reward: float = 0.0
     progress_weighted: bool = False
@@ -341,12 +343,13 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected one of "
                     f"{list(PATH_CHOICES)} (or true / false)"
                 )
-        spread = self.pf_start_spread
-        if spread is not None and not (is_finite_number(spread) and 0 <= spread <= 30):
-            raise ValueError(
-                f"pf_start_spread={spread!r} is not allowed: expected a number in [0, 30] (a "
-                "multiple of 1 m and 5 deg), or None for train_start_noise's value"
-            )
+        for name in ("pf_start_spread", "planning_start_spread"):
+            spread = getattr(self, name)
+            if spread is not None and not (is_finite_number(spread) and 0 <= spread <= 30):
+                raise ValueError(
+                    f"{name}={spread!r} is not allowed: expected a number in [0, 30] (a "
+                    "multiple of 1 m and 5 deg), or None for train_start_noise's value"
+                )
         clearance = self.pnn_prior_kl_clearance
         if clearance is not None and not (is_finite_number(clearance) and clearance > 0):
             raise ValueError(
@@ -445,11 +448,9 @@ class TrainingSetup:
         obstacle-avoidance task, ``planning_layout`` for the planning tasks), when they are not
         the task's own."""
         noise = TRAIN_START_NOISE if self.train_start_noise else (0.0, 0.0)
-        if self.train_start_noise and self.pf_start_spread is not None and env_id is not None:
-            from rov_envs.sim.tasks import task_of_env
-
-            if task_of_env(env_id).name.startswith("PathFollowing"):
-                noise = tuple(float(self.pf_start_spread) * n for n in TRAIN_START_NOISE)
+        spread = self._start_spread(env_id)
+        if self.train_start_noise and spread is not None:
+            noise = tuple(float(spread) * n for n in TRAIN_START_NOISE)
         kwargs = {**self.env_kwargs(), "start_noise": list(noise)}
         layout = self._training_layout(env_id) if env_id is not None else None
         if layout is not None:
@@ -461,6 +462,21 @@ class TrainingSetup:
             if self.oa_corridor is not None and task_of_env(env_id).name == "ObstacleAvoidance":
                 kwargs["corridor"] = float(self.oa_corridor)
         return kwargs
+
+    def _start_spread(self, env_id: str | None) -> float | None:
+        """The multiple of the training start noise that ``env_id``'s task trains from
+        (``pf_start_spread`` on the path-following tasks, ``planning_start_spread`` on the
+        planning tasks), None for 1x."""
+        if env_id is None:
+            return None
+        from rov_envs.sim.tasks import task_of_env
+
+        name = task_of_env(env_id).name
+        if name.startswith("PathFollowing"):
+            return self.pf_start_spread
+        if name.startswith("Planning"):
+            return self.planning_start_spread
+        return None
 
     def _training_layout(self, env_id: str) -> str | None:
         """The layout ``env_id``'s training episodes draw, None for the task's own."""
@@ -724,6 +740,7 @@ FACTOR_LABELS: dict[str, str] = {
     "prior_batch_size": "samples per update of the source columns",
     "train_start_noise": "training start noise",
     "pf_start_spread": "path-following columns' training start noise (x 1 m, 5 deg)",
+    "planning_start_spread": "learners' training start noise (x 1 m, 5 deg)",
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
@@ -783,7 +800,7 @@ def describe_value(name: str, value: Any) -> str:
         return "as the update schedule"
     if name == "prior_batch_size" and not value:
         return "as the samples per update"
-    if name == "pf_start_spread" and value is None:
+    if name in ("pf_start_spread", "planning_start_spread") and value is None:
         return "as the training start noise"
     if name == "pnn_prior_kl_clearance" and value is None:
         return "every sample"

@@ -98,6 +98,22 @@ def test_lead_shares_are_logged_and_reset(priors):
     assert policy.extra_logs() == {}
 
 
+def test_lead_counts_of_many_predictions_are_exact(priors):
+    """The counts wait for their reader, also past the pending bound: after 300 single-sample
+    predictions (over PENDING_LEADS) they are the exact number of near and far samples."""
+    policy = _model(priors).policy
+    actor = policy.actor
+    assert 300 > actor.PENDING_LEADS
+    obs = {k: v.cpu().numpy() for k, v in _obs(policy).items()}
+    for i in range(300):
+        policy.predict({k: v[i % 5] for k, v in obs.items()}, deterministic=True)
+    near = int(NEAR.sum()) * 60
+    assert actor.lead_counts[0].tolist() == [300 - near, near]
+    assert actor.lead_counts[1].tolist() == [0, 0]
+    actor.lead_counts.zero_()
+    assert actor.lead_counts.sum() == 0
+
+
 def test_defaults_and_argument_names(priors):
     """The recommended set-up's eq. 15 weights (1, 1) and start as the selected prior, the
     paper's d_th; the paper's weights are one argument away."""

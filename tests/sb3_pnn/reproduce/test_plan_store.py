@@ -453,3 +453,33 @@ def test_learner_target_entropy_reaches_the_learners_only() -> None:
         with pytest.raises(ValueError, match=rf"learner_target_entropy_ratio={bad!r} is not"):
             PAPER.with_(learner_target_entropy_ratio=bad)
     assert describe_value("learner_target_entropy_ratio", None) == "as the source columns'"
+
+
+def test_start_spreads_reach_their_own_tasks_only() -> None:
+    """planning_start_spread multiplies the training start noise of the learners' planning
+    runs only (pf_start_spread that of the path-following columns); the avoidance column,
+    validation and evaluation keep 1x and the source columns and baselines their hashes; bad
+    values are refused naming them."""
+    base = StudyConfig(budget_name="tiny", seeds=1)
+    plain = {s.run_id: s for s in build_plan(base)}
+    changes = tuple(parse_setup_changes(["planning_start_spread=3"]).items())
+    one_x = [1.0, math.radians(5.0)]
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        if spec.kind == "baseline":  # the PID baselines are not trained
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+            continue
+        noise = spec.env_kwargs["start_noise"]
+        if spec.kind == "prior":
+            expected = [5 * n for n in one_x] if "PathFollowing" in spec.env_id else one_x
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+        else:
+            assert "Planning" in spec.env_id
+            expected = [3 * n for n in one_x]
+            assert plain[spec.run_id].env_kwargs["start_noise"] == pytest.approx(one_x)
+        assert noise == pytest.approx(expected), spec.run_id
+        assert all("start_noise" not in kwargs for _, _, kwargs in spec.eval_tasks)
+    assert describe_value("planning_start_spread", None) == "as the training start noise"
+    for name in ("pf_start_spread", "planning_start_spread"):
+        for bad in (-1.0, 31.0, float("nan"), "x"):
+            with pytest.raises(ValueError, match=rf"{name}={bad!r} is not allowed"):
+                OURS.with_(**{name: bad})
