@@ -13,6 +13,9 @@ library's start noise); the environment keywords are those of the study's ``ours
 
 Usage: python bench/prior_switch.py --pf-straight P.zip --pf-sine P.zip --oa P.zip [--d-th 12.5]
        [--seed 20000 --training-tasks-only]  (validation seeds, no new layout: to choose on)
+       [--seed 20000 --drawn-layouts]  (validation seeds: the planning tasks as they are and
+       among obstacles drawn afresh by the ``scatter`` generator, none of the new layouts'; the
+       validation measure of generalization of ``sb3_pnn.reproduce.tools.drawn_layouts``)
        (the 5-seed study's priors: STUDY/runs/prior-{pf_straight,pf_sine,oa}-s0/model.zip)
 """
 
@@ -84,6 +87,12 @@ def main() -> None:
         help="only the planning tasks the agents train on, with and without their obstacles "
         "(what a choice may be made on), not the new layouts",
     )
+    parser.add_argument(
+        "--drawn-layouts",
+        action="store_true",
+        help="the planning tasks as they are and with obstacles drawn afresh every episode "
+        "(layout='scatter'; a validation measure of generalization), not the new layouts",
+    )
     args = parser.parse_args()
     if not args.d_th > 0:
         parser.error(f"--d-th {args.d_th} is not allowed: expected a distance > 0 (m)")
@@ -104,7 +113,11 @@ def main() -> None:
     )
     for path, prior in (("straight", args.pf_straight), ("sine", args.pf_sine)):
         pf = DiscreteSAC.load(prior, device="cpu")
-        for label, env_id, extra in TASKS[path]:
+        tasks = TASKS[path]
+        if args.drawn_layouts:
+            env_id = tasks[0][1]
+            tasks = [tasks[0], ("drawn obstacles (scatter)", env_id, {"layout": "scatter"})]
+        for label, env_id, extra in tasks:
             if args.training_tasks_only and label.startswith("new"):
                 continue
             kwargs = {**env_kwargs, **extra}

@@ -76,6 +76,8 @@ NOT_ABLATED: dict[str, str] = {
     "planning_layout": "beyond the paper's protocol (the agents train on other obstacles than "
     "the paper's tasks have): its runs are reported apart, as extra rows of Figure 20 "
     "(docs/results.md)",
+    "spnn_d_th_sine": "an ablation cell's SPNN trains on one path at a time (spnn_d_th's cell); "
+    "measured with the study's own SPNN runs (docs/ablation/README.md, section 15)",
     "spnn_gate_sine": "an ablation cell's SPNN trains on one path at a time (spnn_gate's cell); "
     "measured with the study's own SPNN runs (docs/ablation/README.md, section 11)",
     "spnn_gate_temperature": "read only with spnn_gate=soft, whose cell uses the factor's "

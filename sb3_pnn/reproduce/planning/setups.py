@@ -71,7 +71,8 @@ Factors:
   new column as a copy of its first, the path-following, prior.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
-  column while the nearest obstacle is nearer. Only SPNN runs read it.
+  column while the nearest obstacle is nearer. Only SPNN runs read it; ``spnn_d_th_sine``
+  gives the sine path a distance of its own (``None``: ``spnn_d_th`` on both paths).
 * ``spnn_gate``, ``spnn_gate_temperature``: how SPNN's selector weighs its two priors
   (:mod:`sb3_pnn.progressive.gates`): ``"hard"``, eq. 15's switch at d_th; ``"soft"``, the
   avoidance prior's weight sigmoid((d_th - d) / T) with T = ``spnn_gate_temperature`` metres,
@@ -225,6 +226,7 @@ class TrainingSetup:
     pnn_init_from_prior: str = "neither"
     spnn_init_from_prior: str = "neither"
     spnn_d_th: float = PAPER_D_TH
+    spnn_d_th_sine: float | None = None
     spnn_gate: str = "hard"
     spnn_gate_sine: str | None = None
     spnn_gate_temperature: float = 2.0
@@ -305,10 +307,15 @@ class TrainingSetup:
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
                 "(degrees)"
             )
-        if not float(self.spnn_d_th) > 0.0:
-            raise ValueError(
-                f"spnn_d_th={self.spnn_d_th!r} is not allowed: expected a distance > 0 (m)"
-            )
+        for name in ("spnn_d_th", "spnn_d_th_sine"):
+            value = getattr(self, name)
+            if name == "spnn_d_th_sine" and value is None:
+                continue
+            if not (is_finite_number(value) and value > 0.0):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected a distance > 0 (m)"
+                    + (", or None for spnn_d_th's" if name == "spnn_d_th_sine" else "")
+                )
         from sb3_pnn.progressive.gates import GATES
 
         for name in ("spnn_gate", "spnn_gate_sine"):
@@ -595,6 +602,9 @@ class TrainingSetup:
                 )
             value = self.pnn_lateral_init_sine if path == "sine" else self.pnn_lateral_init
             return float(value), _FIELD_DEFAULTS[name]
+        if name == "spnn_d_th":
+            value = self._on_sine_path("spnn_d_th_sine", self.spnn_d_th, path)
+            return float(value), _FIELD_DEFAULTS[name]
         if name not in PER_PATH_FACTORS:
             default = _FIELD_DEFAULTS[name]
             return type(default)(getattr(self, name)), default
@@ -668,6 +678,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
 SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_lateral_init_sine",
     "spnn_gate_sine",
+    "spnn_d_th_sine",
     "pnn_n_steps_sine",
     "pnn_exploration_epsilon_sine",
 )
@@ -756,6 +767,7 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
     "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
     "spnn_d_th": "SPNN switch distance d_th (m)",
+    "spnn_d_th_sine": "SPNN switch distance d_th on the sine path (m)",
     "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",
     "spnn_gate_sine": "SPNN selector on the sine path",
     "spnn_gate_temperature": "SPNN soft selector's temperature (m)",

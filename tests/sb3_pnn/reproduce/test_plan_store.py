@@ -219,9 +219,29 @@ def test_spnn_gate_reaches_only_the_spnn_runs() -> None:
             assert spec.config_hash() == default[run_id].config_hash()
 
 
+def test_spnn_d_th_sine_gives_the_sine_spnn_its_own_switch_distance() -> None:
+    """spnn_d_th=17.5 with spnn_d_th_sine=7.5: the straight SPNN run switches at 17.5 m, the sine
+    one at 7.5 m (its soft gate kept); no other run changes, and unset the sine path follows
+    spnn_d_th."""
+    _, default = _spnn_gates()
+    _, specs = _spnn_gates((("spnn_d_th", 17.5), ("spnn_d_th_sine", 7.5)))
+    d_th = {r: s.sac_kwargs["policy_kwargs"]["d_th"] for r, s in specs.items() if s.agent == "spnn"}
+    assert d_th == {"spnn-straight-s0": 17.5, "spnn-sine-s0": 7.5}
+    assert specs["spnn-sine-s0"].sac_kwargs["policy_kwargs"]["gate"] == "soft"
+    for run_id, spec in specs.items():
+        if spec.agent != "spnn":
+            assert spec.config_hash() == default[run_id].config_hash()
+    _, specs = _spnn_gates((("spnn_d_th", 17.5),))
+    assert {s.sac_kwargs["policy_kwargs"]["d_th"] for s in specs.values() if s.agent == "spnn"} == {
+        17.5
+    }
+
+
 @pytest.mark.parametrize(
     ("factor", "value"),
     [
+        ("spnn_d_th", 0.0),
+        ("spnn_d_th_sine", -2.0),
         ("spnn_gate", "fuzzy"),
         ("spnn_gate_sine", "fuzzy"),
         ("spnn_gate_temperature", 0.0),
