@@ -172,8 +172,8 @@ class ProgressiveActor(BasePolicy):
     def _count_leads(self, g: th.Tensor) -> None:
         # Rollout steps are predicted in eval mode; the actor-loss pass is a training pass with
         # gradients (the TD-target pass runs without gradients and is not counted). Counting
-        # waits for lead_counts: an argmax and bincount per prediction cost about a tenth of SPNN's
-        # predict; counted at once, the counts are the same integers.
+        # waits for lead_counts: an argmax and bincount per prediction cost about a tenth of
+        # SPNN's predict; counted at once, the counts are the same integers.
         if not self.training:
             row = 0
         elif th.is_grad_enabled():

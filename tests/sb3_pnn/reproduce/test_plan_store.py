@@ -248,7 +248,7 @@ def test_spnn_d_th_sine_gives_the_sine_spnn_its_own_switch_distance() -> None:
         ("spnn_gate_temperature", -1.0),
     ],
 )
-def test_bad_spnn_gate_is_refused(factor, value) -> None:
+def test_bad_spnn_gate_or_switch_distance_is_refused(factor, value) -> None:
     with pytest.raises(ValueError, match=factor):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
 
