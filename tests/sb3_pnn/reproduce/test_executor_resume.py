@@ -81,8 +81,11 @@ def _study_args(out: Path) -> list[str]:
 
 def _start_study_and_wait_for_runs(out: Path, n_runs: int = 3) -> subprocess.Popen:
     """A stand-in study (0.4 s per run) in a process group of its own, once ``n_runs`` of its
-    runs are finished (the test fails after 60 s); the caller signals the group."""
+    runs are finished (the test fails after 60 s); the caller signals the group. The study
+    handles Ctrl-C as one started from a terminal does, also where the tests themselves run
+    in the background (whose children inherit SIGINT ignored)."""
     code = (
+        "import signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
         f"import sys; sys.path.insert(0, {str(HERE)!r}); "
         "from reproduce_helpers import fake_work; from sb3_pnn.reproduce.cli import main; "
         f"sys.exit(main({_study_args(out)!r}, work=fake_work))"
