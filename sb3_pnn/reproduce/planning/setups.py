@@ -592,8 +592,8 @@ class TrainingSetup:
     def _policy_value(self, name: str, path: str) -> tuple[Any, Any]:
         """(the policy keyword's value on planning path ``path``, its value in PAPER) for an
         agent factor; those in :data:`PER_PATH_FACTORS` are per path, the others the same on
-        both paths, except ``pnn_lateral_init``, which ``pnn_lateral_init_sine`` (when set)
-        replaces on the sine path."""
+        both paths, except ``pnn_lateral_init`` and ``spnn_d_th``, which
+        ``pnn_lateral_init_sine`` and ``spnn_d_th_sine`` (when set) replace on the sine path."""
         if name == "pnn_lateral_init" and self.pnn_lateral_init_sine is not None:
             if not path:
                 raise ValueError(

@@ -386,19 +386,31 @@ def test_sonar_span_and_sectors_reach_every_task_only_off_the_default() -> None:
             OURS.with_(**dict([bad]))
 
 
+LEARNERS = ("pnn", "spnn", "sac_single", "sac_multi")
+
+
+def _assert_learners_only(key: str, value: float, setting: str, base: tuple = ()) -> None:
+    """``--set setting`` (on top of ``base``) names DiscreteSAC keyword ``key`` = ``value`` in
+    the four learners' runs only: the source columns and baselines keep their hashes, and
+    without it no run names the keyword."""
+    plain = {
+        s.run_id: s
+        for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=base))
+    }
+    changes = base + tuple(parse_setup_changes([setting]).items())
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        learner = spec.agent in LEARNERS
+        assert spec.sac_kwargs.get(key) == (value if learner else None)
+        if not learner:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all(key not in s.sac_kwargs for s in plain.values())
+
+
 def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
     """exploration_epsilon: a DiscreteSAC keyword of the four learners' runs (not the source
     columns'), named only when > 0; a bad value is refused."""
     as_all = (("pnn_exploration_epsilon", None), ("pnn_exploration_epsilon_sine", None))
-    off = StudyConfig(budget_name="tiny", seeds=1, setup_changes=as_all)
-    plain = {s.run_id: s for s in build_plan(off)}
-    changes = as_all + tuple(parse_setup_changes(["exploration_epsilon=0.05"]).items())
-    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
-        learner = spec.agent in ("pnn", "spnn", "sac_single", "sac_multi")
-        assert spec.sac_kwargs.get("exploration_epsilon") == (0.05 if learner else None)
-        if not learner:
-            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
-    assert all("exploration_epsilon" not in s.sac_kwargs for s in plain.values())
+    _assert_learners_only("exploration_epsilon", 0.05, "exploration_epsilon=0.05", as_all)
     with pytest.raises(ValueError, match=r"exploration_epsilon=1.0 is not allowed"):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("exploration_epsilon", 1.0),))
 
@@ -457,14 +469,7 @@ def test_learner_target_entropy_reaches_the_learners_only() -> None:
     """learner_target_entropy_ratio: the four learners' target entropy (named only off the
     default 0.5), the source columns keep target_entropy_ratio and their hashes; None falls
     back; a bad value is refused naming it."""
-    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
-    changes = tuple(parse_setup_changes(["learner_target_entropy_ratio=0.2"]).items())
-    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
-        learner = spec.agent in ("pnn", "spnn", "sac_single", "sac_multi")
-        assert spec.sac_kwargs.get("target_entropy_ratio") == (0.2 if learner else None)
-        if not learner:
-            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
-    assert all("target_entropy_ratio" not in s.sac_kwargs for s in plain.values())
+    _assert_learners_only("target_entropy_ratio", 0.2, "learner_target_entropy_ratio=0.2")
     both = PAPER.with_(target_entropy_ratio=0.3)
     assert both.target_entropy_ratio_of("spnn") == both.target_entropy_ratio_of("") == 0.3
     own = both.with_(learner_target_entropy_ratio=0.2)
