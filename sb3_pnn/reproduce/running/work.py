@@ -38,8 +38,13 @@ EVAL_SEED = 10_000
 MAX_STEPS = 10**9
 
 
-def build_model(spec: RunSpec, deps: dict[str, Path]) -> Any:
-    """The DiscreteSAC model of ``spec`` on a fresh single environment."""
+def build_model(spec: RunSpec, deps: dict[str, Path], device: str = "cpu") -> Any:
+    """The DiscreteSAC model of ``spec`` on a fresh single environment.
+
+    ``device``: the study trains on the CPU (its small networks gain nothing from a GPU, and
+    its runs are compared bit for bit); another device is for checking that the same agents
+    train there (tests/sb3_pnn/reproduce/test_cuda_agents.py).
+    """
     import gymnasium as gym
 
     import rov_envs  # noqa: F401 - registers the tasks
@@ -53,7 +58,7 @@ def build_model(spec: RunSpec, deps: dict[str, Path]) -> Any:
     if "train_freq" in sac_kwargs:  # JSON holds the (frequency, unit) pair as a list
         sac_kwargs["train_freq"] = tuple(sac_kwargs["train_freq"])
     policy_kwargs = dict(sac_kwargs.pop("policy_kwargs", None) or {})
-    common: dict[str, Any] = dict(seed=spec.seed, verbose=0, device="cpu", **sac_kwargs)
+    common: dict[str, Any] = dict(seed=spec.seed, verbose=0, device=device, **sac_kwargs)
     if spec.agent in ("dsac", "sac_single"):
         return DiscreteSAC("MultiInputPolicy", env, policy_kwargs=policy_kwargs, **common)
     if spec.agent == "sac_multi":

@@ -18,7 +18,6 @@ from __future__ import annotations
 from collections import Counter
 
 import gymnasium as gym
-import numpy as np
 import torch as th
 
 import rov_envs  # noqa: F401  (registers the tasks)
@@ -44,7 +43,7 @@ def step_counts(
         obs, info = env.reset(seed=seed + episode)
         done = False
         while not done:
-            batch = {k: th.as_tensor(np.asarray(v)[None], dtype=th.float32) for k, v in obs.items()}
+            batch = policy.obs_to_tensor(obs)[0]  # on the policy's device
             with th.no_grad():
                 logits, prior_log_probs = policy.actor.logits_and_prior_log_probs(batch)
             own, prior = int(logits.argmax()), int(prior_log_probs.argmax())

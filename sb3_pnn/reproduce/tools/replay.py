@@ -37,11 +37,18 @@ def task_id(parser: argparse.ArgumentParser, args: argparse.Namespace) -> str:
     return env_id
 
 
-def run_folders(study: Path, agent: str, path: str, seeds: list[int]) -> list[tuple[int, Path]]:
+def run_folders(
+    study: Path, agent: str, path: str, seeds: list[int] | None
+) -> list[tuple[int, Path]]:
     """``(seed, folder)`` of a study's runs of ``agent`` on planning path ``path``: one per
-    training seed, or the one run of a PID baseline (no training seed; listed as seed 0)."""
+    training seed (``seeds`` None: every such run the study holds, in seed order), or the one
+    run of a PID baseline (no training seed; listed as seed 0)."""
     if agent in BASELINE_NAMES:
         return [(0, study / "runs" / f"{agent}-{path}")]
+    if seeds is None:
+        prefix = f"{agent}-{path}-s"
+        names = (p.name for p in (study / "runs").glob(f"{prefix}*"))
+        seeds = sorted(int(n[len(prefix) :]) for n in names if n[len(prefix) :].isdigit())
     return [(seed, study / "runs" / f"{agent}-{path}-s{seed}") for seed in seeds]
 
 

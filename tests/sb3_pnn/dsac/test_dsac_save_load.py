@@ -11,7 +11,7 @@ import torch as th
 from sb3_pnn import DiscreteSAC
 
 
-def train_small(**kwargs) -> DiscreteSAC:
+def train_small(device: str = "cpu", **kwargs) -> DiscreteSAC:
     model = DiscreteSAC(
         "MlpPolicy",
         "CartPole-v1",
@@ -20,7 +20,7 @@ def train_small(**kwargs) -> DiscreteSAC:
         buffer_size=2000,
         policy_kwargs=dict(net_arch=[16, 16]),
         seed=1,
-        device="cpu",
+        device=device,
         **kwargs,
     )
     model.learn(300)
