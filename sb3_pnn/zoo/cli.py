@@ -251,7 +251,7 @@ def train_main(argv: list[str] | None = None) -> None:
         grace_period=ours.grace_period,
     )
     manager = type("TrainExperimentManager", (PNNExperimentManager,), {"options": options})
-    with _argv([TRAIN_PROG, *with_default_threads(rest)]), _zoo_manager(manager):
+    with _argv([TRAIN_PROG, *with_defaults(rest)]), _zoo_manager(manager):
         rl_zoo3.train.train()
 
 
@@ -259,13 +259,19 @@ def train_main(argv: list[str] | None = None) -> None:
 #: own default, -1, lets torch take every core: on 2 cores the small networks here then run
 #: several times slower than on one).
 DEFAULT_NUM_THREADS = 1
+#: Torch device of ``train`` and ``enjoy`` unless ``--device`` says otherwise (rl_zoo3's own
+#: default, auto, takes a GPU where there is one: the study's networks then train 2.2-2.4x
+#: slower per update than on one CPU thread, ``bench/gpu_vs_cpu.py``).
+DEFAULT_DEVICE = "cpu"
 
 
-def with_default_threads(argv: list[str]) -> list[str]:
-    """``argv`` with ``--num-threads 1`` added unless it already names a thread count."""
-    if any(a == "--num-threads" or a.startswith("--num-threads=") for a in argv):
-        return argv
-    return [*argv, "--num-threads", str(DEFAULT_NUM_THREADS)]
+def with_defaults(argv: list[str]) -> list[str]:
+    """``argv`` with ``--num-threads 1`` and ``--device cpu`` added where it names none."""
+    out = list(argv)
+    for flag, value in (("--num-threads", str(DEFAULT_NUM_THREADS)), ("--device", DEFAULT_DEVICE)):
+        if not any(a == flag or a.startswith(f"{flag}=") for a in argv):
+            out += [flag, value]
+    return out
 
 
 def _enjoy_parser() -> argparse.ArgumentParser:
@@ -293,7 +299,9 @@ def _enjoy_parser() -> argparse.ArgumentParser:
     zoo.add_argument("--deterministic", action="store_true", help="greedy actions (default)")
     zoo.add_argument("--stochastic", action="store_true", help="sample actions")
     zoo.add_argument("--seed", type=int, default=0, help="seed of the env and the model")
-    zoo.add_argument("--device", default="auto", help="torch device")
+    zoo.add_argument(
+        "--device", default=DEFAULT_DEVICE, help=f"torch device (default {DEFAULT_DEVICE})"
+    )
     zoo.add_argument("--verbose", type=int, default=1, help="0: quiet")
     zoo.add_argument("--no-render", action="store_true", help="do not open a window")
     zoo.add_argument("--gym-packages", nargs="+", default=[], help="modules to import first")

@@ -55,6 +55,32 @@ def test_train_runs_torch_on_one_thread_unless_told(
         assert len(threads) == 1 and argv[argv.index("--num-threads") + 1] == expected
 
 
+@pytest.mark.parametrize(
+    ("given", "expected"),
+    [
+        ([], ["--device", "cpu"]),
+        (["--device", "cuda"], ["--device", "cuda"]),
+        (["--device=auto"], ["--device=auto"]),
+    ],
+)
+def test_train_runs_on_the_cpu_unless_told(
+    given: list[str], expected: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """rl_zoo3's own default, auto, would take a GPU, where these networks train slower."""
+    import rl_zoo3.train
+
+    from sb3_pnn.zoo.cli import train_main
+
+    seen: list[list[str]] = []
+    monkeypatch.setattr(rl_zoo3.train, "train", lambda: seen.append(list(sys.argv)))
+    train_main(["--algo", "dsac", "--env", PF_ENV, *given])
+    (argv,) = seen
+    devices = [a for a in argv if a.startswith("--device")]
+    assert len(devices) == 1
+    at = argv.index(devices[0])
+    assert argv[at : at + len(expected)] == expected
+
+
 def test_train_evaluates_on_the_entrys_env_kwargs(trained: Path) -> None:
     run = trained / "logs" / "dsac" / f"{PF_RUN}_1"
     assert (run / f"{PF_RUN}.zip").is_file()
