@@ -34,12 +34,8 @@ def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return work
 
 
-@pytest.mark.parametrize(
-    ("given", "expected"), [([], "1"), (["--num-threads", "3"], "3"), (["--num-threads=-1"], None)]
-)
-def test_train_runs_torch_on_one_thread_unless_told(
-    given: list[str], expected: str | None, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def _zoo_argv(given: list[str], monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The argv rl_zoo3's train receives from ``train --algo dsac --env PF_ENV *given``."""
     import rl_zoo3.train
 
     from sb3_pnn.zoo.cli import train_main
@@ -48,6 +44,16 @@ def test_train_runs_torch_on_one_thread_unless_told(
     monkeypatch.setattr(rl_zoo3.train, "train", lambda: seen.append(list(sys.argv)))
     train_main(["--algo", "dsac", "--env", PF_ENV, *given])
     (argv,) = seen
+    return argv
+
+
+@pytest.mark.parametrize(
+    ("given", "expected"), [([], "1"), (["--num-threads", "3"], "3"), (["--num-threads=-1"], None)]
+)
+def test_train_runs_torch_on_one_thread_unless_told(
+    given: list[str], expected: str | None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    argv = _zoo_argv(given, monkeypatch)
     threads = [a for a in argv if a.startswith("--num-threads")]
     if expected is None:
         assert threads == ["--num-threads=-1"]
@@ -67,14 +73,7 @@ def test_train_runs_on_the_cpu_unless_told(
     given: list[str], expected: list[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """rl_zoo3's own default, auto, would take a GPU, where these networks train slower."""
-    import rl_zoo3.train
-
-    from sb3_pnn.zoo.cli import train_main
-
-    seen: list[list[str]] = []
-    monkeypatch.setattr(rl_zoo3.train, "train", lambda: seen.append(list(sys.argv)))
-    train_main(["--algo", "dsac", "--env", PF_ENV, *given])
-    (argv,) = seen
+    argv = _zoo_argv(given, monkeypatch)
     devices = [a for a in argv if a.startswith("--device")]
     assert len(devices) == 1
     at = argv.index(devices[0])
