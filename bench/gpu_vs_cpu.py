@@ -23,6 +23,7 @@ import torch as th
 from dsac_update import (
     ENV,
     ENV_KWARGS,
+    _cycle_cost,
     _print_rounds,
     _rounds,
     positive_int,
@@ -34,20 +35,15 @@ import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 
 
-def _sync(model) -> None:
-    if model.device.type == "cuda":
-        th.cuda.synchronize()
-
-
 def _cycle_wall_ms(model, obs, cycles: int) -> float:
-    _sync(model)
-    start = time.perf_counter()
-    for _ in range(cycles):
-        model.train(1, 256)
-        for _ in range(4):
-            model.predict(obs, deterministic=False)
-    _sync(model)
-    return (time.perf_counter() - start) / cycles * 1e3
+    """``bench/dsac_update.py``'s cycle in wall time, the GPU synchronized at each reading."""
+
+    def clock() -> float:
+        if model.device.type == "cuda":
+            th.cuda.synchronize()
+        return time.perf_counter()
+
+    return _cycle_cost(model, obs, cycles, 256, clock=clock)
 
 
 def _learners(env, arch: list[int], priors: list[str], devices: list[str]) -> dict[str, object]:

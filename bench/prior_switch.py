@@ -34,6 +34,7 @@ from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 from sb3_pnn.reproduce.planning.setups import OURS
 from sb3_pnn.reproduce.running.work import EVAL_SEED
+from sb3_pnn.reproduce.tools.drawn_layouts import LAYOUT
 
 #: (label, env id, extra env keywords): the study's evaluation tasks, by path.
 TASKS = {
@@ -116,7 +117,7 @@ def main() -> None:
         tasks = TASKS[path]
         if args.drawn_layouts:
             env_id = tasks[0][1]
-            tasks = [tasks[0], ("drawn obstacles (scatter)", env_id, {"layout": "scatter"})]
+            tasks = [tasks[0], (f"drawn obstacles ({LAYOUT})", env_id, {"layout": LAYOUT})]
         for label, env_id, extra in tasks:
             if args.training_tasks_only and label.startswith("new"):
                 continue
