@@ -9,6 +9,13 @@ noise) and keeps a copy of the policy's weights when their success rate beats ev
 (ties go to the higher mean return). :meth:`restore` puts the best copy back into the model. The
 validation seeds must differ from the final evaluation's, so that the reported success rate is
 measured on episodes nothing was chosen on.
+
+With ``drawn_episodes`` > 0 each check also runs that many episodes of the same task among
+obstacles drawn afresh every episode (``layout=drawn_layout``, seeds ``drawn_seed + i``), and a
+check ranks by its own-task success, then its success among the drawn obstacles, then its mean
+return: of the policies that solve their task equally well, the one that also passes obstacles
+it never trained on is kept. This is model selection on a validation distribution, as early
+stopping is; it changes nothing in training.
 """
 
 from __future__ import annotations
@@ -24,11 +31,23 @@ VALIDATION_SEED = 20_000
 #: Training episodes between two checks, and episodes per check, by default (the study's).
 VALIDATION_EVERY = 25
 VALIDATION_EPISODES = 30
+#: First seed of the checks among drawn obstacles: apart from the validation seeds above, on
+#: which :mod:`sb3_pnn.reproduce.tools.drawn_layouts` measures the kept policies afterwards.
+DRAWN_VALIDATION_SEED = 30_000
+#: The obstacle generator of those checks (none of the new layouts' generators).
+DRAWN_VALIDATION_LAYOUT = "scatter"
 
 
-def validation_rank(check: dict[str, Any]) -> tuple[float, float]:
+def validation_rank(check: dict[str, Any]) -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
-    success rate, then mean return, of one ``history`` entry of :class:`KeepBestOnValidation`."""
+    success rate, then (when the check ran them) the success among drawn obstacles, then mean
+    return, of one ``history`` entry of :class:`KeepBestOnValidation`."""
+    if "drawn_success_rate" in check:
+        return (
+            float(check["success_rate"]),
+            float(check["drawn_success_rate"]),
+            float(check["mean_return"]),
+        )
     return (float(check["success_rate"]), float(check["mean_return"]))
 
 
@@ -44,6 +63,9 @@ class KeepBestOnValidation(BaseCallback):
         seed: first validation seed.
         restore_at_end: put the best weights back into the model when ``learn`` ends
             (:meth:`restore`), so that the model saved next is the one kept.
+        drawn_episodes: episodes per check among drawn obstacles (>= 0; 0, the default: none).
+        drawn_layout: their obstacle generator (:mod:`rov_envs.sim.layouts`).
+        drawn_seed: their first seed.
     """
 
     def __init__(
@@ -54,22 +76,33 @@ class KeepBestOnValidation(BaseCallback):
         env_kwargs: dict[str, Any] | None = None,
         seed: int = VALIDATION_SEED,
         restore_at_end: bool = True,
+        drawn_episodes: int = 0,
+        drawn_layout: str = DRAWN_VALIDATION_LAYOUT,
+        drawn_seed: int = DRAWN_VALIDATION_SEED,
     ) -> None:
         super().__init__(verbose=0)
-        for name, value in (("every", every), ("n_episodes", n_episodes)):
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ValueError(f"{name}={value!r} is not allowed: expected an integer >= 1")
+        for name, value, least in (
+            ("every", every, 1),
+            ("n_episodes", n_episodes, 1),
+            ("drawn_episodes", drawn_episodes, 0),
+        ):
+            if isinstance(value, bool) or not isinstance(value, int) or value < least:
+                raise ValueError(f"{name}={value!r} is not allowed: expected an integer >= {least}")
         self.env_id = env_id
         self.every = every
         self.n_episodes = n_episodes
         self.env_kwargs = dict(env_kwargs or {})
         self.seed = seed
         self.restore_at_end = bool(restore_at_end)
+        self.drawn_episodes = drawn_episodes
+        self.drawn_layout = str(drawn_layout)
+        self.drawn_seed = int(drawn_seed)
         self.episodes = 0
-        #: One entry per check: {"episode", "success_rate", "mean_return"}.
+        #: One entry per check: {"episode", "success_rate", "mean_return"} and, with
+        #: ``drawn_episodes``, "drawn_success_rate".
         self.history: list[dict[str, float]] = []
         self.best_episode: int | None = None
-        self._best_key: tuple[float, float] | None = None
+        self._best_key: tuple[float, ...] | None = None
         self._best_state: dict[str, Any] | None = None
 
     def _on_step(self) -> bool:
@@ -100,6 +133,18 @@ class KeepBestOnValidation(BaseCallback):
             "success_rate": result.success_rate,
             "mean_return": result.mean_return,
         }
+        if self.drawn_episodes:
+            from sb3_pnn.evaluation.evaluate import trained_env_kwargs
+
+            base = self.env_kwargs or trained_env_kwargs(self.model, self.env_id)
+            drawn = evaluate_policy_on_task(
+                self.model,
+                self.env_id,
+                n_episodes=self.drawn_episodes,
+                seed=self.drawn_seed,
+                env_kwargs={**base, "layout": self.drawn_layout},
+            )
+            entry["drawn_success_rate"] = drawn.success_rate
         self.history.append(entry)
         key = validation_rank(entry)
         if self._best_key is None or key > self._best_key:
@@ -116,10 +161,17 @@ class KeepBestOnValidation(BaseCallback):
 
     def to_dict(self) -> dict[str, Any]:
         """The checks and the chosen episode (JSON-able)."""
-        return {
+        data: dict[str, Any] = {
             "every": self.every,
             "n_episodes": self.n_episodes,
             "seed": self.seed,
             "history": self.history,
             "best_episode": self.best_episode,
         }
+        if self.drawn_episodes:
+            data.update(
+                drawn_episodes=self.drawn_episodes,
+                drawn_layout=self.drawn_layout,
+                drawn_seed=self.drawn_seed,
+            )
+        return data

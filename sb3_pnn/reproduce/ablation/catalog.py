@@ -339,7 +339,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     eval_episodes=budget.eval_episodes,
                     sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                     env_kwargs={**setup.train_env_kwargs(env_id), **setup.agent_env_kwargs(agent)},
-                    validation=setup.validation(),
+                    validation=setup.validation(learner=True),
                 )
     plan = list(runs.values())
     # priors first (a run's deps always come earlier), then seed by seed

@@ -373,7 +373,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         trace_episodes=budget.trace_episodes,
                         sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                         env_kwargs={**setup.train_env_kwargs(PLANNING_ENVS[path]), **own_env},
-                        validation=setup.validation(),
+                        validation=setup.validation(learner=True),
                     )
                 )
     return runs

@@ -155,6 +155,12 @@ Factors:
   noise, seeds from :data:`sb3_pnn.common.callbacks.VALIDATION_SEED`, apart from the evaluation's),
   as the RL Zoo's ``EvalCallback`` does; off: the policy at the end of the budget (the paper
   does not say which policy it reports).
+* ``keep_best_drawn``: episodes per validation check that the learners (SPNN, PNN, SAC-Multi,
+  SAC-Single) also run on their own path among obstacles drawn afresh every episode (the
+  ``scatter`` generator, none of the new layouts'; seeds from
+  :data:`sb3_pnn.common.callbacks.DRAWN_VALIDATION_SEED`); a check then ranks by its own-task
+  success, then its success among those obstacles, then its return. 0: own-task checks only.
+  Model selection on a validation distribution; training is unchanged.
 """
 
 from __future__ import annotations
@@ -218,6 +224,7 @@ class TrainingSetup:
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     learner_target_entropy_ratio: float | None = None
     keep_best: bool = False
+    keep_best_drawn: int = 0
     pnn_lateral_init: float = 1.0
     pnn_lateral_init_sine: float | None = None
     pnn_critic_priors: str = "both"
@@ -267,6 +274,7 @@ class TrainingSetup:
             ("batch_size", 1),
             ("prior_batch_size", 0),
             ("prior_candidates", 1),
+            ("keep_best_drawn", 0),
             ("spnn_n_steps", 1),
             ("pnn_n_steps", 1),
             ("sonar_sectors", 1),
@@ -289,6 +297,11 @@ class TrainingSetup:
             raise ValueError(
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
                 "the best candidate is chosen on its validation checks (keep_best=true)"
+            )
+        if self.keep_best_drawn and not self.keep_best:
+            raise ValueError(
+                f"keep_best_drawn={self.keep_best_drawn} is not allowed with keep_best off: "
+                "the drawn-obstacle episodes rank the validation checks (keep_best=true)"
             )
         _check_refined_numbers(
             self,
@@ -617,11 +630,15 @@ class TrainingSetup:
             )
         return self.on_path(name, path), default
 
-    def validation(self) -> dict[str, int]:
-        """How often and on how many episodes a run validates (empty: it keeps the last policy)."""
+    def validation(self, learner: bool = False) -> dict[str, int]:
+        """How often and on how many episodes a run validates (empty: it keeps the last policy);
+        a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles."""
         if not self.keep_best:
             return {}
-        return {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
+        checks = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
+        if learner and self.keep_best_drawn:
+            checks["drawn_episodes"] = self.keep_best_drawn
+        return checks
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -759,6 +776,7 @@ FACTOR_LABELS: dict[str, str] = {
     "target_entropy_ratio": "target entropy / ln(number of actions)",
     "learner_target_entropy_ratio": "learners' target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
+    "keep_best_drawn": "learners' checks also among drawn obstacles (episodes)",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
     "pnn_critic_priors": "PNN critics read the prior's critic",

@@ -94,6 +94,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
             every=int(spec.validation["every"]),
             n_episodes=int(spec.validation["episodes"]),
             env_kwargs=env_kwargs,
+            drawn_episodes=int(spec.validation.get("drawn_episodes", 0)),
         )
         callbacks.append(keeper)
     start = time.time()

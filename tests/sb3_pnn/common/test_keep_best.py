@@ -12,7 +12,12 @@ import torch as th
 import rov_envs  # noqa: F401
 import sb3_pnn.evaluation
 from sb3_pnn import DiscreteSAC
-from sb3_pnn.common.callbacks import VALIDATION_SEED, KeepBestOnValidation
+from sb3_pnn.common.callbacks import (
+    DRAWN_VALIDATION_SEED,
+    VALIDATION_SEED,
+    KeepBestOnValidation,
+    validation_rank,
+)
 from sb3_pnn.reproduce.planning.plan import RunSpec
 from sb3_pnn.reproduce.planning.setups import OURS, PAPER, VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.reproduce.running.work import run_work
@@ -102,3 +107,62 @@ def test_study_run_saves_the_kept_policy(tmp_path) -> None:
         saved, ENV, n_episodes=2, seed=VALIDATION_SEED
     )
     assert again.mean_return == pytest.approx(best["mean_return"])
+
+
+def test_drawn_checks_rank_between_own_success_and_return(monkeypatch) -> None:
+    # own-task (success, return) and drawn-obstacle success of four checks
+    own = iter([(1.0, 50.0), (1.0, 10.0), (0.9, 90.0), (1.0, 5.0)])
+    drawn = iter([0.2, 0.6, 0.9, 0.6])
+    calls = []
+
+    def fake_evaluate(policy, env_id, n_episodes, seed, env_kwargs):
+        calls.append((n_episodes, seed, env_kwargs))
+        if "layout" in env_kwargs:
+            return SimpleNamespace(success_rate=next(drawn), mean_return=0.0)
+        rate, ret = next(own)
+        return SimpleNamespace(success_rate=rate, mean_return=ret)
+
+    monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", fake_evaluate)
+    model = _model()
+    keeper = KeepBestOnValidation(
+        ENV, every=1, n_episodes=7, env_kwargs={"motion_obs": True}, drawn_episodes=5
+    )
+    keeper.init_callback(model)
+    snapshots = []
+    for _ in range(4):
+        with th.no_grad():
+            for p in model.policy.parameters():
+                p.add_(1.0)
+        snapshots.append(_first_weight(model))
+        keeper.check()
+    # the drawn episodes: the same task among scatter obstacles, on their own seeds
+    assert calls[1] == (5, DRAWN_VALIDATION_SEED, {"motion_obs": True, "layout": "scatter"})
+    # check 2 (drawn 0.6) beats check 1 (0.2) despite its lower return; check 3's 0.9 does not
+    # count (its own-task success is lower); check 4 ties check 2 on both rates, lower return
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
+    record = keeper.to_dict()
+    assert [h["drawn_success_rate"] for h in record["history"]] == [0.2, 0.6, 0.9, 0.6]
+    assert record["drawn_episodes"] == 5 and record["drawn_seed"] == DRAWN_VALIDATION_SEED
+
+
+def test_ranks_without_drawn_checks_are_unchanged() -> None:
+    check = {"success_rate": 0.5, "mean_return": 3.0}
+    assert validation_rank(check) == (0.5, 3.0)
+    assert validation_rank({**check, "drawn_success_rate": 0.25}) == (0.5, 0.25, 3.0)
+    with pytest.raises(ValueError, match="drawn_episodes=-1 is not allowed"):
+        KeepBestOnValidation(ENV, drawn_episodes=-1)
+
+
+def test_keep_best_drawn_reaches_the_learners_only() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+
+    setup = OURS.with_(keep_best_drawn=30)
+    assert setup.validation() == OURS.validation()  # the source columns: unchanged
+    assert setup.validation(learner=True)["drawn_episodes"] == 30
+    assert OURS.validation(learner=True) == OURS.validation()  # default: the study's hashes
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_drawn", 30),)))
+    for spec in plan:
+        drawn = spec.validation.get("drawn_episodes")
+        assert drawn == (30 if spec.kind == "transfer" else None), spec.run_id
+    with pytest.raises(ValueError, match="keep_best_drawn=30 is not allowed with keep_best off"):
+        PAPER.with_(keep_best_drawn=30)
