@@ -283,7 +283,7 @@ class TrainingSetup:
             if isinstance(value, bool) or not isinstance(value, int) or value < low:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
-                    + (" (0: as batch_size)" if low == 0 else "")
+                    + (" (0: as batch_size)" if name == "prior_batch_size" else "")
                 )
         sine_n = self.pnn_n_steps_sine
         if sine_n is not None and (

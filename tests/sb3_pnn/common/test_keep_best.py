@@ -166,3 +166,7 @@ def test_keep_best_drawn_reaches_the_learners_only() -> None:
         assert drawn == (30 if spec.kind == "transfer" else None), spec.run_id
     with pytest.raises(ValueError, match="keep_best_drawn=30 is not allowed with keep_best off"):
         PAPER.with_(keep_best_drawn=30)
+    with pytest.raises(
+        ValueError, match=r"keep_best_drawn=-1 is not allowed: expected an integer >= 0$"
+    ):
+        OURS.with_(keep_best_drawn=-1)
