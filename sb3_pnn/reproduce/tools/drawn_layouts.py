@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import torch as th
 
-from sb3_pnn.common.callbacks import VALIDATION_SEED
+from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
 from sb3_pnn.reproduce.tools.replay import (
     run_env_kwargs,
@@ -29,8 +29,9 @@ from sb3_pnn.reproduce.tools.replay import (
     task_parser,
 )
 
-#: The generator whose layouts the measure draws (rov_envs.sim.layouts): not an evaluation one.
-LAYOUT = "scatter"
+#: The generator whose layouts the measure draws (rov_envs.sim.layouts): not an evaluation one;
+#: the one ``KeepBestOnValidation(drawn_episodes=...)`` checks on, on other seeds.
+LAYOUT = DRAWN_VALIDATION_LAYOUT
 
 
 def main(argv: list[str] | None = None) -> int:
