@@ -88,6 +88,13 @@ class KeepBestOnValidation(BaseCallback):
         ):
             if isinstance(value, bool) or not isinstance(value, int) or value < least:
                 raise ValueError(f"{name}={value!r} is not allowed: expected an integer >= {least}")
+        from rov_envs.sim.layouts import LAYOUT_CODES
+
+        if drawn_layout not in LAYOUT_CODES:
+            raise ValueError(
+                f"drawn_layout={drawn_layout!r} is not allowed: expected one of "
+                f"{sorted(LAYOUT_CODES)} (rov_envs.sim.layouts)"
+            )
         self.env_id = env_id
         self.every = every
         self.n_episodes = n_episodes

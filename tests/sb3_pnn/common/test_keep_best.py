@@ -151,6 +151,9 @@ def test_ranks_without_drawn_checks_are_unchanged() -> None:
     assert validation_rank({**check, "drawn_success_rate": 0.25}) == (0.5, 0.25, 3.0)
     with pytest.raises(ValueError, match="drawn_episodes=-1 is not allowed"):
         KeepBestOnValidation(ENV, drawn_episodes=-1)
+    # a bad generator is refused when the run starts, not at its first check
+    with pytest.raises(ValueError, match="drawn_layout='nope' is not allowed: expected one of"):
+        KeepBestOnValidation(ENV, drawn_episodes=5, drawn_layout="nope")
 
 
 def test_keep_best_drawn_reaches_the_learners_only() -> None:
