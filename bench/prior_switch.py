@@ -12,6 +12,7 @@ Evaluated as the study evaluates (50 episodes per task on seeds 10000+, the eval
 library's start noise); the environment keywords are those of the study's ``ours`` set-up.
 
 Usage: python bench/prior_switch.py --pf-straight P.zip --pf-sine P.zip --oa P.zip [--d-th 12.5]
+       [--hysteresis 0 10]  (a switch that keeps the avoidance prior until d_th + H)
        [--seed 20000 --training-tasks-only]  (validation seeds, no new layout: to choose on)
        [--seed 20000 --drawn-layouts]  (validation seeds: the planning tasks as they are and
        among obstacles drawn afresh by the ``scatter`` generator, none of the new layouts'; the
@@ -35,6 +36,10 @@ from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 from sb3_pnn.reproduce.planning.setups import OURS
 from sb3_pnn.reproduce.running.work import EVAL_SEED
 from sb3_pnn.reproduce.tools.drawn_layouts import LAYOUT
+from sb3_pnn.reproduce.tools.spnn_switch_distance import (
+    add_hysteresis_argument,
+    remembered_switch,
+)
 
 #: (label, env id, extra env keywords): the study's evaluation tasks, by path.
 TASKS = {
@@ -53,11 +58,28 @@ TASKS = {
 
 
 class PriorSwitch:
-    """Greedy action of the path-following prior, or of the avoidance prior within ``d_th``."""
+    """Greedy action of the path-following prior, or of the avoidance prior within ``d_th``.
 
-    def __init__(self, pf: DiscreteSAC, oa: DiscreteSAC, d_th: float, sonar_range: float):
+    With ``hysteresis`` h > 0 the switch remembers: once the avoidance prior has control it
+    keeps it until the nearest reading is beyond ``d_th + h`` (eq. 15's selector is memoryless,
+    h = 0). The 180-degree sonar loses an obstacle when the vehicle turns its back to it, so
+    the memoryless switch can hand control back while the obstacle is still beside the route.
+    """
+
+    def __init__(
+        self,
+        pf: DiscreteSAC,
+        oa: DiscreteSAC,
+        d_th: float,
+        sonar_range: float,
+        hysteresis: float = 0.0,
+    ):
         self.pf, self.oa, self.d_th, self.sonar_range = pf, oa, d_th, sonar_range
+        self.hysteresis = hysteresis
         self.oa_share: list[float] = []
+        self.handovers = 0  # changes of the column in control within an episode
+        self.decisions = 0
+        self._near: np.ndarray | None = None
 
     @staticmethod
     def _greedy(model: DiscreteSAC, obs: dict[str, np.ndarray]) -> np.ndarray:
@@ -66,7 +88,13 @@ class PriorSwitch:
         return np.asarray(action)
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):
-        near = obs["sonar"].min(axis=-1) * self.sonar_range <= self.d_th
+        nearest = obs["sonar"].min(axis=-1) * self.sonar_range
+        near = remembered_switch(nearest, self._near, self.d_th, self.hysteresis, episode_start)
+        if self._near is not None and self._near.shape == near.shape:
+            starting = np.zeros_like(near) if episode_start is None else episode_start
+            self.handovers += int(np.sum((near != self._near) & ~starting))
+        self._near = near
+        self.decisions += near.size
         self.oa_share.append(float(np.mean(near)))
         action = np.where(near, self._greedy(self.oa, obs), self._greedy(self.pf, obs))
         return action, state
@@ -78,6 +106,7 @@ def main() -> None:
     parser.add_argument("--pf-sine", required=True)
     parser.add_argument("--oa", required=True)
     parser.add_argument("--d-th", type=float, default=12.5, help="switch distance (m), paper 12.5")
+    add_hysteresis_argument(parser)
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument(
         "--seed", type=int, default=EVAL_SEED, help="first episode seed (study evaluation: 10000)"
@@ -97,6 +126,9 @@ def main() -> None:
     args = parser.parse_args()
     if not args.d_th > 0:
         parser.error(f"--d-th {args.d_th} is not allowed: expected a distance > 0 (m)")
+    for h in args.hysteresis:
+        if not h >= 0 or h == float("inf"):
+            parser.error(f"--hysteresis {h} is not allowed: expected finite distances >= 0 (m)")
     if args.episodes < 1 or args.seed < 0:
         parser.error(f"--episodes {args.episodes} / --seed {args.seed}: expected >= 1 / >= 0")
     th.set_num_threads(1)
@@ -125,25 +157,28 @@ def main() -> None:
             probe = gym.make(env_id, **kwargs)
             sonar_range = probe.unwrapped.sonar_range
             probe.close()
-            policy = PriorSwitch(pf, oa, args.d_th, sonar_range)
-            start = time.time()
-            result = evaluate_policy_on_task(
-                policy,
-                env_id,
-                n_episodes=args.episodes,
-                seed=args.seed,
-                env_kwargs=kwargs,
-            )
-            low, high = result.success_ci95
-            ends = ", ".join(f"{k} {v}" for k, v in sorted(result.end_reasons.items()))
-            print(
-                f"{path:8} {label:30} success {result.success_rate:4.0%} [{low:.0%}, {high:.0%}]"
-                f"  mean |g| {result.mean_abs_cross_track:4.2f} m"
-                f", |a_c| {np.degrees(result.mean_abs_heading_error):4.1f} deg"
-                f"  avoidance prior in {np.mean(policy.oa_share):4.0%} of decisions"
-                f"  ({ends}; {time.time() - start:.0f} s)",
-                flush=True,
-            )
+            for hysteresis in args.hysteresis:
+                policy = PriorSwitch(pf, oa, args.d_th, sonar_range, hysteresis)
+                start = time.time()
+                result = evaluate_policy_on_task(
+                    policy,
+                    env_id,
+                    n_episodes=args.episodes,
+                    seed=args.seed,
+                    env_kwargs=kwargs,
+                )
+                low, high = result.success_ci95
+                ends = ", ".join(f"{k} {v}" for k, v in sorted(result.end_reasons.items()))
+                print(
+                    f"{path:8} {label:30} h {hysteresis:g} m: success {result.success_rate:4.0%}"
+                    f" [{low:.0%}, {high:.0%}]  mean |g| {result.mean_abs_cross_track:4.2f} m"
+                    f", |a_c| {np.degrees(result.mean_abs_heading_error):4.1f} deg"
+                    f"  avoidance prior in {np.mean(policy.oa_share):4.0%} of decisions"
+                    f", handovers per 100 decisions "
+                    f"{100 * policy.handovers / max(policy.decisions, 1):.1f}"
+                    f"  ({ends}; {time.time() - start:.0f} s)",
+                    flush=True,
+                )
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 Usage::
 
     python -m sb3_pnn.reproduce [--quick] [--seeds N] [--jobs J] [--out DIR] [--episodes E]
-                                [--eval-episodes N] [--agents A,B] [--prior-per-seed]
+                                [--eval-episodes N] [--agents A,B] [--shared-priors]
                                 [--no-progress]
                                 [--setup {ours,paper}] [--set FACTOR=VALUE ...]
     python -m sb3_pnn.reproduce --ablation ...   (see :mod:`.ablation_cli`)
@@ -96,10 +96,20 @@ def make_parser() -> argparse.ArgumentParser:
         help=f"comma list of the learners to train (default all: {','.join(AGENTS)}); the "
         "source columns they need and both PID baselines always run",
     )
-    parser.add_argument(
+    priors = parser.add_mutually_exclusive_group()
+    priors.add_argument(
         "--prior-per-seed",
+        dest="prior_per_seed",
         action="store_true",
-        help="train one set of source columns per seed (default: one shared set)",
+        default=True,
+        help="train one set of source columns per seed, so the intervals cover their draw "
+        "(default)",
+    )
+    priors.add_argument(
+        "--shared-priors",
+        dest="prior_per_seed",
+        action="store_false",
+        help="train one set of source columns (seed 0) and give it to every seed",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument(

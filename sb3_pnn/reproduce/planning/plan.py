@@ -4,9 +4,10 @@ A study is a list of :class:`RunSpec` built by :func:`build_plan` from a :class:
 
 * ``prior`` runs train the source columns with DiscreteSAC: path following on the straight line
   and on the sinusoid (the prior of PNN, SAC-Multi and SPNN's first column) and obstacle
-  avoidance (SPNN's second column): one run per needed prior, seed 0, shared by every seed of the
-  transfer runs (so the budget goes into better priors). With ``prior_per_seed`` every seed gets
-  its own priors instead, and the spread across seeds includes the spread of the priors.
+  avoidance (SPNN's second column): one set per training seed (``prior_per_seed``, the
+  default), so the spread across seeds includes the spread of the columns; without it one set
+  (seed 0) is shared by every seed of the transfer runs, and the intervals cover only the
+  agents' own training.
 * ``transfer`` runs train the four agents of section 4.3 on both planning tasks: SAC-Single
   (DiscreteSAC from scratch), SAC-Multi (DiscreteSAC started from the path-following prior's
   weights), PNN (two columns, eq. 13) and SPNN (three columns, eq. 15). Each ends by evaluating its
@@ -134,7 +135,7 @@ class StudyConfig:
     seeds: int = 5
     episodes: int | None = None  # overrides every transfer budget when given
     eval_episodes: int | None = None
-    prior_per_seed: bool = False
+    prior_per_seed: bool = True
     paths: tuple[str, ...] = ("straight", "sine")
     agents: tuple[str, ...] = tuple(AGENTS)
     setup_name: str = "ours"

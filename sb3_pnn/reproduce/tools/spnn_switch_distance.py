@@ -1,15 +1,21 @@
-"""A diagnostic: a study's SPNN policies with the gate's switch distance d_th changed after
-training, on the training task and the new layouts of Figure 20.
+"""A diagnostic: a study's SPNN policies with the gate's switch changed after training, on the
+training task and the new layouts of Figure 20 (or among obstacles drawn afresh).
 
 Eq. 15's hard gate hands control to the obstacle-avoidance column when the nearest obstacle is
 within d_th. Changing d_th in a trained policy asks whether the new layouts fail because the
-gate switches too late or too early. Episodes run on the validation seeds (20000+, never the
-study's evaluation seeds 10000+), 1 m / 5 deg start noise, deterministic actions; nothing is
-chosen here. Prints, per task and d_th, the success rate over the seeds' episodes, per seed,
-and how the episodes ended.
+gate switches too late or too early. ``--hysteresis H`` gives the switch a memory instead: once
+the avoidance column has control it keeps it until the nearest reading is beyond d_th + H (each
+episode starts memoryless). The 180-degree sonar loses an obstacle when the vehicle turns its
+back to it, and eq. 15's memoryless switch then hands control back to the path follower,
+which turns the vehicle back toward the obstacle. Episodes run on the validation seeds
+(20000+, never the study's evaluation seeds 10000+), 1 m / 5 deg start noise, deterministic
+actions; nothing is chosen here. ``--drawn-layouts`` replaces the new layouts by the training
+task among obstacles drawn afresh by the ``scatter`` generator (the validation measure of
+generalization of :mod:`.drawn_layouts`). Prints, per task, d_th and H, the success rate over
+the seeds' episodes, per seed, the return, the route kept and how the episodes ended.
 
 Usage: python -m sb3_pnn.reproduce.tools.spnn_switch_distance STUDY --path straight
-    [--d-th 12.5 8 16 20] [--episodes 30] [--seeds 5]
+    [--d-th 12.5 8 16 20] [--hysteresis 0 10] [--drawn-layouts] [--episodes 30] [--seeds 5]
 """
 
 from __future__ import annotations
@@ -17,61 +23,147 @@ from __future__ import annotations
 import argparse
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import torch as th
 
 from sb3_pnn import DiscreteSAC
-from sb3_pnn.common.callbacks import VALIDATION_SEED
+from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.reproduce.planning.plan import EVAL_TASKS
 from sb3_pnn.reproduce.planning.setups import OURS
 
 
-def main() -> None:
+def add_hysteresis_argument(parser: argparse.ArgumentParser) -> None:
+    """``--hysteresis H [H ...]`` (m), one row per value; 0 is eq. 15's memoryless switch."""
+    parser.add_argument(
+        "--hysteresis",
+        type=float,
+        nargs="+",
+        default=[0.0],
+        metavar="H",
+        help="once the avoidance column has control, keep it until the nearest obstacle is "
+        "beyond d_th + H (m); 0: eq. 15's memoryless switch; several values: one row each",
+    )
+
+
+def remembered_switch(
+    nearest: np.ndarray,
+    previous: np.ndarray | None,
+    d_th: float,
+    hysteresis: float,
+    episode_start: np.ndarray | None,
+) -> np.ndarray:
+    """Per vehicle, whether the avoidance column has control: within ``d_th`` of the nearest
+    obstacle (eq. 15), or it had control on the step before (``previous``) and the obstacle is
+    still within ``d_th + hysteresis``; a vehicle starting an episode has no memory."""
+    near = nearest <= d_th
+    if previous is None or previous.shape != near.shape:
+        return near
+    kept = previous & (nearest <= d_th + hysteresis)
+    starting = np.zeros_like(near) if episode_start is None else np.asarray(episode_start)
+    return np.where(starting, near, near | kept)
+
+
+class SwitchWithMemory:
+    """A trained SPNN whose hard gate keeps the avoidance column until the nearest reading is
+    beyond ``d_th + hysteresis`` (``predict`` as SB3's, one memory per vehicle of the batch)."""
+
+    def __init__(self, model: DiscreteSAC, d_th: float, hysteresis: float):
+        self.model, self.d_th, self.hysteresis = model, d_th, hysteresis
+        self.gate = model.policy.actor.gate
+        self.near: np.ndarray | None = None
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        nearest = obs[self.gate.sonar_key].min(axis=-1) * self.gate.sonar_range
+        near = remembered_switch(nearest, self.near, self.d_th, self.hysteresis, episode_start)
+        self.near = near
+        # the gate selects per sample: d_th above or below every reading decides it
+        self.gate.d_th = th.as_tensor(np.where(near, np.inf, -np.inf), dtype=th.float32)
+        try:
+            return self.model.predict(obs, deterministic=deterministic)
+        finally:
+            self.gate.d_th = self.d_th
+
+
+def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("study", type=Path)
     parser.add_argument("--path", choices=["straight", "sine"], default="straight")
     parser.add_argument("--d-th", type=float, nargs="+", default=[12.5, 8.0, 16.0, 20.0])
+    add_hysteresis_argument(parser)
+    parser.add_argument(
+        "--drawn-layouts",
+        action="store_true",
+        help=f"the training task among obstacles drawn afresh ({DRAWN_VALIDATION_LAYOUT!r}) "
+        "instead of the new layouts",
+    )
     parser.add_argument("--episodes", type=int, default=30)
-    parser.add_argument("--seeds", type=int, default=5)
-    args = parser.parse_args()
-    for name in ("episodes", "seeds"):
-        if getattr(args, name) < 1:
-            parser.error(f"--{name} {getattr(args, name)} is not allowed: expected an integer >= 1")
-    for d_th in args.d_th:
-        if not is_finite_number(d_th) or d_th < 0:
-            parser.error(f"--d-th {d_th} is not allowed: expected finite distances >= 0 (m)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3, 4])
+    args = parser.parse_args(argv)
+    if args.episodes < 1:
+        parser.error(f"--episodes {args.episodes} is not allowed: expected an integer >= 1")
+    if any(s < 0 for s in args.seeds):
+        parser.error(f"--seeds {args.seeds} is not allowed: expected training seeds >= 0")
+    for name, values in (("d-th", args.d_th), ("hysteresis", args.hysteresis)):
+        for value in values:
+            if not is_finite_number(value) or value < 0:
+                parser.error(f"--{name} {value} is not allowed: expected finite distances >= 0 (m)")
     th.set_num_threads(1)
-    tasks = [(label, env_id) for label, env_id, extra in EVAL_TASKS[args.path] if not extra]
-    env_kwargs = OURS.env_kwargs()
-    success: dict[tuple[str, float], list[int]] = {}
-    ends: dict[tuple[str, float], Counter] = {}
-    for seed in range(args.seeds):
+    original = [(label, env_id, {}) for label, env_id, extra in EVAL_TASKS[args.path] if not extra]
+    if args.drawn_layouts:
+        tasks = [original[0], ("drawn", original[0][1], {"layout": DRAWN_VALIDATION_LAYOUT})]
+    else:
+        tasks = original
+    rows: dict[tuple[str, float, float], dict[str, Any]] = {}
+    for seed in args.seeds:
         zip_path = args.study / "runs" / f"spnn-{args.path}-s{seed}" / "model.zip"
         if not zip_path.exists():
             parser.error(f"{zip_path} does not exist: expected a study folder with SPNN runs")
         model = DiscreteSAC.load(zip_path, device="cpu")
+        if model.policy.actor.gate.mode != "hard" and args.hysteresis != [0.0]:
+            parser.error(
+                f"{zip_path} has a {model.policy.actor.gate.mode} gate: --hysteresis needs "
+                "eq. 15's hard gate"
+            )
         for d_th in args.d_th:
-            model.policy.actor.gate.d_th = d_th  # the actor's gate decides the actions
-            for label, env_id in tasks:
-                result = evaluate_policy_on_task(
-                    model,
-                    env_id,
-                    n_episodes=args.episodes,
-                    seed=VALIDATION_SEED,
-                    env_kwargs=env_kwargs,
-                )
-                success.setdefault((label, d_th), []).append(round(100 * result.success_rate))
-                ends.setdefault((label, d_th), Counter()).update(result.end_reasons)
+            for hysteresis in args.hysteresis:
+                model.policy.actor.gate.d_th = d_th  # the actor's gate decides the actions
+                policy = SwitchWithMemory(model, d_th, hysteresis) if hysteresis > 0 else model
+                for label, env_id, extra in tasks:
+                    result = evaluate_policy_on_task(
+                        policy,
+                        env_id,
+                        n_episodes=args.episodes,
+                        seed=VALIDATION_SEED,
+                        env_kwargs={**OURS.env_kwargs(), **extra},
+                    )
+                    row = rows.setdefault(
+                        (label, d_th, hysteresis),
+                        {"rates": [], "returns": [], "g": [], "ac": [], "ends": Counter()},
+                    )
+                    row["rates"].append(round(100 * result.success_rate))
+                    row["returns"].append(result.mean_return)
+                    row["g"].append(result.mean_abs_cross_track)
+                    row["ac"].append(np.degrees(result.mean_abs_heading_error))
+                    row["ends"].update(result.end_reasons)
     print(f"SPNN, {args.path} path, {args.episodes} validation episodes per seed and task")
-    print("| task | d_th (m) | success | per seed | episodes ended by |")
-    print("|---|---|---|---|---|")
-    for (label, d_th), rates in success.items():
-        ended = ", ".join(f"{k} {v}" for k, v in ends[(label, d_th)].most_common())
-        mean = sum(rates) / len(rates)
-        print(f"| {label} | {d_th:g} | {mean:.0f} % | {' '.join(map(str, rates))} | {ended} |")
+    print(
+        "| task | d_th (m) | hysteresis (m) | success | per seed | return | mean abs(g), "
+        "abs(a_c) | episodes ended by |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for (label, d_th, hysteresis), row in rows.items():
+        ended = ", ".join(f"{k} {v}" for k, v in row["ends"].most_common())
+        print(
+            f"| {label} | {d_th:g} | {hysteresis:g} | {np.mean(row['rates']):.0f} % | "
+            f"{' '.join(map(str, row['rates']))} | {np.mean(row['returns']):.0f} | "
+            f"{np.mean(row['g']):.2f} m, {np.mean(row['ac']):.1f} deg | {ended} |"
+        )
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -10,7 +10,7 @@ import pytest
 from reproduce_helpers import fake_work
 
 from rov_envs.sim.rewards import END_REASONS
-from sb3_pnn.reproduce.cli import main
+from sb3_pnn.reproduce.cli import config_from_args, main, make_parser
 from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
 from sb3_pnn.reproduce.planning.setups import parse_setup_changes
 from sb3_pnn.reproduce.reporting.report import write_report
@@ -34,13 +34,24 @@ from sb3_pnn.reproduce.running.work import build_model
      (["--set", "control_period=0"], "control_period=0.0 is not allowed"),
      (["--set", "control_period=5"], "control_period=5.0 is not allowed"),
      (["--agents", "spnn,dqn"], "agent 'dqn' is unknown; expected one of"),
-     (["--agents", "spnn,spnn"], "expected distinct agents")],
+     (["--agents", "spnn,spnn"], "expected distinct agents"),
+     (["--prior-per-seed", "--shared-priors"], "not allowed with argument")],
 )  # fmt: skip
 def test_bad_arguments(argv, match, capsys, tmp_path) -> None:
     with pytest.raises(SystemExit) as exc:
         main([*argv, "--out", str(tmp_path)])
     assert exc.value.code == 2
     assert match in capsys.readouterr().err
+
+
+def test_source_columns_per_seed_unless_shared_is_asked_for() -> None:
+    parser = make_parser()
+    assert config_from_args(parser.parse_args([])).prior_per_seed
+    assert config_from_args(parser.parse_args(["--prior-per-seed"])).prior_per_seed
+    shared = config_from_args(parser.parse_args(["--shared-priors", "--seeds", "2"]))
+    assert not shared.prior_per_seed
+    deps = {s.run_id: s.deps for s in build_plan(shared)}
+    assert deps["spnn-straight-s1"] == ("prior-pf_straight-s0", "prior-oa-s0")
 
 
 def test_report_only_of_a_folder_without_the_study(capsys, tmp_path) -> None:

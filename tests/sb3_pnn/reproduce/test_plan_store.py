@@ -12,12 +12,14 @@ from sb3_pnn.reproduce.planning.setups import OURS, PAPER, describe_value, parse
 from sb3_pnn.reproduce.running.store import RunStore, StudyConflictError
 
 
-def test_plan_has_every_run_and_deps_come_first() -> None:
-    plan = build_plan(StudyConfig(budget_name="full", seeds=5))
+@pytest.mark.parametrize("prior_per_seed", [True, False])
+def test_plan_has_every_run_and_deps_come_first(prior_per_seed) -> None:
+    plan = build_plan(StudyConfig(budget_name="full", seeds=5, prior_per_seed=prior_per_seed))
     ids = [s.run_id for s in plan]
     assert len(set(ids)) == len(ids)
     kinds = [s.kind for s in plan]
-    assert kinds.count("prior") == 3  # shared priors: pf_straight, pf_sine, oa
+    # pf_straight, pf_sine, oa: per seed, or seed 0's shared by every seed
+    assert kinds.count("prior") == (3 * 5 if prior_per_seed else 3)
     assert kinds.count("transfer") == 4 * 2 * 5
     assert kinds.count("baseline") == 2 * 2
     seen: set[str] = set()
@@ -25,12 +27,13 @@ def test_plan_has_every_run_and_deps_come_first() -> None:
         assert set(spec.deps) <= seen, spec.run_id
         seen.add(spec.run_id)
     spnn = next(s for s in plan if s.run_id == "spnn-sine-s3")
-    assert spnn.deps == ("prior-pf_sine-s0", "prior-oa-s0")
+    prior_seed = 3 if prior_per_seed else 0
+    assert spnn.deps == (f"prior-pf_sine-s{prior_seed}", f"prior-oa-s{prior_seed}")
     assert {label for label, _, _ in spnn.eval_tasks} == {"original", "path_following", "dense"}
 
 
-def test_prior_per_seed_and_recorded_episodes_inside_budget() -> None:
-    plan = build_plan(StudyConfig(budget_name="full", seeds=2, prior_per_seed=True, episodes=200))
+def test_priors_per_seed_by_default_and_recorded_episodes_inside_budget() -> None:
+    plan = build_plan(StudyConfig(budget_name="full", seeds=2, episodes=200))
     assert sum(s.kind == "prior" for s in plan) == 6
     pnn = next(s for s in plan if s.run_id == "pnn-straight-s1")
     assert pnn.deps == ("prior-pf_straight-s1",)

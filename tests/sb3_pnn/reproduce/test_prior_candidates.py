@@ -14,13 +14,16 @@ from sb3_pnn.reproduce.running.work import run_work
 
 
 def _plan(k: int, **kwargs):
+    kwargs.setdefault("prior_per_seed", False)  # one shared set unless a test asks for more
     config = StudyConfig(budget_name="tiny", setup_changes=(("prior_candidates", k),), **kwargs)
     return {s.run_id: s for s in build_plan(config)}
 
 
-def test_one_candidate_plans_the_study_as_before() -> None:
-    before = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=2))}
-    after = _plan(1, seeds=2)
+@pytest.mark.parametrize("prior_per_seed", [True, False])
+def test_one_candidate_plans_the_study_as_before(prior_per_seed) -> None:
+    config = StudyConfig(budget_name="tiny", seeds=2, prior_per_seed=prior_per_seed)
+    before = {s.run_id: s for s in build_plan(config)}
+    after = _plan(1, seeds=2, prior_per_seed=prior_per_seed)
     assert {i: s.config_hash() for i, s in after.items()} == {
         i: s.config_hash() for i, s in before.items()
     }
@@ -28,7 +31,10 @@ def test_one_candidate_plans_the_study_as_before() -> None:
 
 def test_each_column_is_trained_k_times_and_the_transfer_runs_read_the_choice() -> None:
     plan = _plan(3, seeds=2)
-    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=2))}
+    plain = {
+        s.run_id: s
+        for s in build_plan(StudyConfig(budget_name="tiny", seeds=2, prior_per_seed=False))
+    }
     for name in ("pf_straight", "pf_sine", "oa"):
         candidates = [f"prior-{name}-s{j}" for j in range(3)]
         for j, rid in enumerate(candidates):  # the same runs as per-seed columns of seeds 0-2
@@ -114,7 +120,8 @@ def test_tiny_real_study_with_two_candidates(tmp_path) -> None:
     out = tmp_path / "study"
     proc = subprocess.run(
         [sys.executable, "-m", "sb3_pnn.reproduce", "--tiny", "--seeds", "1", "--jobs", "2",
-         "--agents", "spnn", "--set", "prior_candidates=2", "--no-progress", "--out", str(out)],
+         "--agents", "spnn", "--set", "prior_candidates=2", "--shared-priors", "--no-progress",
+         "--out", str(out)],
         capture_output=True, text=True, timeout=240,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -1,0 +1,76 @@
+"""tools.spnn_switch_distance's switch with memory: eq. 15's hard gate that, once it has
+selected the avoidance column, keeps it until the nearest obstacle is beyond d_th + H."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import torch as th
+
+from sb3_pnn.progressive.gates import DistanceGate
+from sb3_pnn.reproduce.tools.spnn_switch_distance import SwitchWithMemory, main
+
+
+class GateOnly:
+    """A stand-in SPNN whose action is the column its actor's gate selects (0 path, 1 avoid)."""
+
+    def __init__(self) -> None:
+        gate = DistanceGate("hard", d_th=12.5, sonar_range=25.0)
+        self.policy = SimpleNamespace(actor=SimpleNamespace(gate=gate))
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        weights = self.policy.actor.gate({"sonar": th.as_tensor(obs["sonar"])})
+        return weights.argmax(dim=1).numpy(), None
+
+
+def _play(policy, nearest_m, starts):
+    actions = []
+    for d, start in zip(nearest_m, starts):
+        obs = {"sonar": np.full((1, 9), d / 25.0, np.float32)}
+        action, _ = policy.predict(obs, episode_start=np.array([start]))
+        actions.append(int(action[0]))
+    return actions
+
+
+def test_memory_keeps_avoidance_until_beyond_d_th_plus_h_and_restores_d_th() -> None:
+    model = GateOnly()
+    policy = SwitchWithMemory(model, d_th=12.5, hysteresis=5.0)
+    nearest = [20.0, 12.0, 14.0, 17.5, 17.6, 14.0, 10.0]
+    assert _play(policy, nearest, [True] + [False] * 6) == [0, 1, 1, 1, 0, 0, 1]
+    assert model.policy.actor.gate.d_th == 12.5  # the trained gate is left as it was
+    # without memory, the same readings switch on every crossing of d_th
+    assert _play(model, nearest, [True] * 7) == [0, 1, 0, 0, 0, 0, 1]
+
+
+def test_each_episode_and_each_vehicle_has_its_own_memory() -> None:
+    policy = SwitchWithMemory(GateOnly(), d_th=12.5, hysteresis=5.0)
+    assert _play(policy, [10.0, 14.0, 14.0], [True, False, True]) == [1, 1, 0]
+    two = {"sonar": np.array([[10.0 / 25] * 9, [20.0 / 25] * 9], np.float32)}
+    policy.predict(two, episode_start=np.array([True, True]))
+    two["sonar"][:] = 14.0 / 25
+    action, _ = policy.predict(two, episode_start=np.array([False, False]))
+    assert action.tolist() == [1, 0]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--hysteresis", "-1"], "--hysteresis -1.0 is not allowed"),
+        (["--d-th", "nan"], "--d-th nan is not allowed"),
+        (["--seeds", "-2"], "--seeds [-2] is not allowed"),
+        (["--episodes", "0"], "--episodes 0 is not allowed"),
+    ],
+)
+def test_bad_arguments_stop_with_a_message(tmp_path, capsys, args, message) -> None:
+    with pytest.raises(SystemExit) as stop:
+        main([str(tmp_path), *args])
+    assert stop.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_missing_run_stops_with_a_message(tmp_path, capsys) -> None:
+    with pytest.raises(SystemExit):
+        main([str(tmp_path), "--seeds", "0"])
+    assert "spnn-straight-s0/model.zip does not exist" in capsys.readouterr().err
