@@ -15,7 +15,8 @@ generalization of :mod:`.drawn_layouts`). Prints, per task, d_th and H, the succ
 the seeds' episodes, per seed, the return, the route kept and how the episodes ended.
 
 Usage: python -m sb3_pnn.reproduce.tools.spnn_switch_distance STUDY --path straight
-    [--d-th 12.5 8 16 20] [--hysteresis 0 10] [--drawn-layouts] [--episodes 30] [--seeds 5]
+    [--d-th 12.5 8 16 20] [--hysteresis 0 10] [--drawn-layouts] [--episodes 30]
+    [--seeds 0 1 2 3 4]
 """
 
 from __future__ import annotations
