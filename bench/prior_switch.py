@@ -126,9 +126,6 @@ def main() -> None:
     args = parser.parse_args()
     if not args.d_th > 0:
         parser.error(f"--d-th {args.d_th} is not allowed: expected a distance > 0 (m)")
-    for h in args.hysteresis:
-        if not h >= 0 or h == float("inf"):
-            parser.error(f"--hysteresis {h} is not allowed: expected finite distances >= 0 (m)")
     if args.episodes < 1 or args.seed < 0:
         parser.error(f"--episodes {args.episodes} / --seed {args.seed}: expected >= 1 / >= 0")
     th.set_num_threads(1)

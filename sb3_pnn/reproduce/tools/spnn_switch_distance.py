@@ -37,11 +37,24 @@ from sb3_pnn.reproduce.planning.plan import EVAL_TASKS
 from sb3_pnn.reproduce.planning.setups import OURS
 
 
+def _hysteresis(text: str) -> float:
+    """A distance in metres, finite and >= 0 (argparse type of ``--hysteresis``)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not is_finite_number(value) or value < 0:
+        raise argparse.ArgumentTypeError(
+            f"{text} is not allowed: expected a finite distance >= 0 (m)"
+        )
+    return value
+
+
 def add_hysteresis_argument(parser: argparse.ArgumentParser) -> None:
     """``--hysteresis H [H ...]`` (m), one row per value; 0 is eq. 15's memoryless switch."""
     parser.add_argument(
         "--hysteresis",
-        type=float,
+        type=_hysteresis,
         nargs="+",
         default=[0.0],
         metavar="H",
@@ -108,10 +121,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--episodes {args.episodes} is not allowed: expected an integer >= 1")
     if any(s < 0 for s in args.seeds):
         parser.error(f"--seeds {args.seeds} is not allowed: expected training seeds >= 0")
-    for name, values in (("d-th", args.d_th), ("hysteresis", args.hysteresis)):
-        for value in values:
-            if not is_finite_number(value) or value < 0:
-                parser.error(f"--{name} {value} is not allowed: expected finite distances >= 0 (m)")
+    for value in args.d_th:
+        if not is_finite_number(value) or value < 0:
+            parser.error(f"--d-th {value} is not allowed: expected finite distances >= 0 (m)")
     th.set_num_threads(1)
     original = [(label, env_id, {}) for label, env_id, extra in EVAL_TASKS[args.path] if not extra]
     if args.drawn_layouts:

@@ -57,7 +57,9 @@ def test_each_episode_and_each_vehicle_has_its_own_memory() -> None:
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        (["--hysteresis", "-1"], "--hysteresis -1.0 is not allowed"),
+        (["--hysteresis", "-1"], "argument --hysteresis: -1 is not allowed"),
+        (["--hysteresis", "inf"], "argument --hysteresis: inf is not allowed"),
+        (["--hysteresis", "far"], "argument --hysteresis: far is not allowed"),
         (["--d-th", "nan"], "--d-th nan is not allowed"),
         (["--seeds", "-2"], "--seeds [-2] is not allowed"),
         (["--episodes", "0"], "--episodes 0 is not allowed"),
