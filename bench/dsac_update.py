@@ -2,7 +2,8 @@
 
 Prints milliseconds per gradient step (CPU time, one torch thread) for DiscreteSAC with plain
 columns (with its default fused Adam and with PyTorch's default for-each Adam) and with the SPNN's
-three columns, and for SB3's DQN (one Q-network and its target, the
+three columns (also with half of each batch mirrored, ``mirror=rov_envs.LEFT_RIGHT_MIRROR``),
+and for SB3's DQN (one Q-network and its target, the
 cheapest off-policy update SB3 ships), on PlanningStraight-v0's observation, batch 256, and the
 ratio DiscreteSAC / DQN. Timings alternate between the learners, ``--repeats`` rounds, and the
 median round is kept, so that other load on the machine affects all of them alike.
@@ -31,7 +32,7 @@ import gymnasium as gym
 import torch as th
 from stable_baselines3 import DQN
 
-import rov_envs  # noqa: F401 - registers the tasks
+import rov_envs  # registers the tasks
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 
 ENV = "rov_envs/PlanningStraight-v0"
@@ -158,6 +159,13 @@ def main() -> None:
                     SelectivePolicy,
                     env,
                     policy_kwargs={"net_arch": arch, "priors": prior_paths},
+                    **sac_kw,
+                ),
+                "DiscreteSAC + SPNN, mirror": DiscreteSAC(
+                    SelectivePolicy,
+                    env,
+                    policy_kwargs={"net_arch": arch, "priors": prior_paths},
+                    mirror=rov_envs.LEFT_RIGHT_MIRROR,
                     **sac_kw,
                 ),
             }

@@ -19,7 +19,9 @@ Every task takes ``vehicle="uuv_simulator"`` (default: UUV Simulator's BlueROV2,
 Gazebo model) or ``vehicle="wu2018"`` (Wu's 2018 parameter set), see ``rov_envs.physics.params``.
 Single environments: ``gymnasium.make(id, **kwargs)`` (:class:`RovEnv`). Natively batched:
 ``gymnasium.make_vec(id, num_envs=N, vectorization_mode="vector_entry_point")``
-(:class:`RovVectorEnv`), or :class:`RovSB3VecEnv` for Stable-Baselines3.
+(:class:`RovVectorEnv`), or :class:`RovSB3VecEnv` for Stable-Baselines3. The tasks are
+left-right symmetric; :data:`LEFT_RIGHT_MIRROR` maps a sample to its mirror image
+(:mod:`rov_envs.sim.symmetry`).
 """
 
 from __future__ import annotations
@@ -29,9 +31,18 @@ from typing import Any
 import gymnasium as gym
 
 from rov_envs.moved import ROV_ENVS_MOVED, install
+from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from rov_envs.sim.tasks import ENV_IDS, TASKS
 
-__all__ = ["ENV_IDS", "TASKS", "RovEnv", "RovVectorEnv", "RovSB3VecEnv", "register_envs"]
+__all__ = [
+    "ENV_IDS",
+    "LEFT_RIGHT_MIRROR",
+    "TASKS",
+    "RovEnv",
+    "RovVectorEnv",
+    "RovSB3VecEnv",
+    "register_envs",
+]
 
 
 def register_envs() -> None:

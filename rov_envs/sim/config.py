@@ -101,7 +101,8 @@ class EnvConfig:
     * ``start_noise``: ``(position_std_m, heading_std_rad)`` of the Gaussian perturbation of the
       start pose (default ``(1, 5 deg)``; ``(0, 0)``: the paper's exact start).
     * ``length``: path length along x (m); ``amplitude``, ``wavelength``: the sine path's shape
-      (m). Default: the task's (200 m line; y = 15 sin(2 pi x / 120) over 120 m).
+      (m; a negative amplitude gives the path's mirror image). Default: the task's (200 m line;
+      y = 15 sin(2 pi x / 120) over 120 m).
     * ``sonar_sectors`` (q, default 9), ``sonar_span`` (S, rad, default pi, centred ahead),
       ``sonar_range`` (m, default 25).
     * ``continuous``: ``Box(-1, 1, (2,))`` (surge, yaw) actions instead of Table 1's
@@ -297,7 +298,7 @@ def _check_path(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     length = _finite_float("length", args.get("length", task.length), f"a float >= {min_len}")
     if length < min_len or length > 10000.0:
         raise _bad("length", length, f"a float in [{min_len}, 10000] (m)")
-    amplitude = _in_range("amplitude", args.get("amplitude", task.amplitude), 0.0, 50.0, "m")
+    amplitude = _in_range("amplitude", args.get("amplitude", task.amplitude), -50.0, 50.0, "m")
     wavelength = _finite_float(
         "wavelength", args.get("wavelength", task.wavelength), "a float >= 20"
     )

@@ -48,6 +48,7 @@ from torch.nn import functional as F
 
 from sb3_pnn.common.buffers import DictNStepReplayBuffer
 from sb3_pnn.common.checks import check_step_budget, is_finite_number
+from sb3_pnn.common.mirror import MirroredBatches, check_mirror_map
 from sb3_pnn.dsac.policies import (
     PAPER_NET_ARCH,
     DiscreteActor,
@@ -227,6 +228,10 @@ class DiscreteSAC(OffPolicyAlgorithm):
         Christodoulou). A softmax policy gives an action whose Q-value lies far below the best
         almost no probability, so its Q-value is never corrected by data; epsilon keeps every
         action tried (as DQN's exploration does). ``predict`` is unchanged.
+    :param mirror: A left-right mirror map of a symmetric task (e.g.
+        ``rov_envs.LEFT_RIGHT_MIRROR``; None: off, the paper): half of each minibatch is
+        replaced by its mirror image (:mod:`sb3_pnn.common.mirror`), so that the agent also
+        learns what it saw with left and right swapped. ``predict`` is unchanged.
     :param target_update_interval: Polyak-update the targets every ``target_update_interval``
         gradient steps (counted over the whole run)
     :param stats_window_size: Window size for the rollout logging
@@ -266,6 +271,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         ent_coef: str | float = "auto_0.2",
         target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO,
         exploration_epsilon: float = 0.0,
+        mirror: dict[str, Any] | None = None,
         target_update_interval: int = 1,
         stats_window_size: int = 100,
         tensorboard_log: str | None = None,
@@ -330,6 +336,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
         self.ent_coef = ent_coef
         self.target_entropy_ratio = float(target_entropy_ratio)
         self.exploration_epsilon = float(exploration_epsilon)
+        self.mirror = mirror
+        self._mirrored_batches: MirroredBatches | None = None
         self.target_entropy = 0.0  # set in _setup_model from the action space
         self.target_update_interval = target_update_interval
         self.log_ent_coef: th.Tensor | None = None
@@ -353,6 +361,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
             super()._setup_model()
         if not isinstance(self.policy, DiscreteSACPolicy):
             raise NotADiscreteSACPolicyError(self.policy)
+        if self.mirror is not None:
+            self.mirror = check_mirror_map(self.mirror, self.observation_space, self.action_space)
+            self._mirrored_batches = MirroredBatches(self.mirror)
         smoothness = getattr(self.policy, "action_smoothness", 0.0)
         if smoothness > 0 and self.n_steps > 1:
             if not isinstance(self.replay_buffer, DictNStepReplayBuffer):
@@ -405,6 +416,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
 
         for _ in range(gradient_steps):
             replay_data = self.replay_buffer.sample(batch_size, env=self._vec_normalize_env)  # type: ignore[union-attr]
+            if self._mirrored_batches is not None:
+                replay_data = self._mirrored_batches(replay_data)
             # For n-step replay, discount factor is gamma**n_steps (when no early termination)
             discounts = replay_data.discounts if replay_data.discounts is not None else self.gamma
 
@@ -718,7 +731,8 @@ class DiscreteSAC(OffPolicyAlgorithm):
         "buffer_size", "learning_starts", "batch_size", "tau", "gamma", "train_freq",
         "gradient_steps", "replay_buffer_class", "replay_buffer_kwargs",
         "optimize_memory_usage", "n_steps", "ent_coef", "target_entropy_ratio",
-        "exploration_epsilon", "target_update_interval", "stats_window_size", "tensorboard_log",
+        "exploration_epsilon", "mirror", "target_update_interval", "stats_window_size",
+        "tensorboard_log",
         "policy_kwargs", "verbose", "seed",
     )  # fmt: skip
 
@@ -757,6 +771,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
             "ent_coef": self.ent_coef,
             "target_entropy_ratio": self.target_entropy_ratio,
             "exploration_epsilon": self.exploration_epsilon,
+            "mirror": self.mirror,
             "target_update_interval": self.target_update_interval,
             "stats_window_size": self._stats_window_size,
             "tensorboard_log": self.tensorboard_log,
@@ -794,6 +809,10 @@ class DiscreteSAC(OffPolicyAlgorithm):
             0.0,
             math.nextafter(1.0, 0.0),  # [0, 1)
         )
+        if hyper["mirror"] is not None and not isinstance(hyper["mirror"], dict):
+            raise ValueError(
+                f"{where} mirror={hyper['mirror']!r:.100} is not allowed: expected a dict or null"
+            )  # its content is checked against the spaces when the model is built
         if hyper["seed"] is not None:
             check_number(hyper["seed"], f"{where} seed", -(2**63), 2**64, integer=True)
         if not isinstance(hyper["optimize_memory_usage"], bool):
@@ -824,10 +843,12 @@ class DiscreteSAC(OffPolicyAlgorithm):
     def upgrade_checkpoint(cls, meta: dict[str, Any]) -> dict[str, Any]:
         """A checkpoint of an earlier format version as the current one. Version 1 named the
         network architecture only when it was not the default, then [255, 255]. Checkpoints
-        written before ``exploration_epsilon`` existed trained without it (0)."""
+        written before ``exploration_epsilon`` or ``mirror`` existed trained without them (0,
+        None)."""
         hyper = meta.get("hyperparameters")
-        if isinstance(hyper, dict) and "exploration_epsilon" not in hyper:
-            hyper["exploration_epsilon"] = 0.0
+        if isinstance(hyper, dict):
+            hyper.setdefault("exploration_epsilon", 0.0)
+            hyper.setdefault("mirror", None)
         if meta.get("version") == 1:
             hyper = meta.get("hyperparameters")
             kwargs = hyper.get("policy_kwargs") if isinstance(hyper, dict) else None

@@ -118,6 +118,11 @@ Factors:
   the best, so that value is never corrected (not in the paper: 0).
   ``pnn_exploration_epsilon`` gives PNN's runs their own epsilon (None: ``exploration_epsilon``),
   ``pnn_exploration_epsilon_sine`` PNN's runs on the sine path theirs (None: PNN's).
+* ``mirror_augmentation``: the learners (not the source columns) replace half of each
+  minibatch by its left-right mirror image (``DiscreteSAC(mirror=rov_envs.LEFT_RIGHT_MIRROR)``,
+  :mod:`sb3_pnn.common.mirror`): the tasks are mirror-symmetric, so a mirrored transition is a
+  true one of the mirrored task, and a learner that trains on one fixed layout also learns it
+  with left and right swapped (not in the paper: off).
 * ``sonar_span`` (degrees, centred ahead), ``sonar_sectors``: the sonar's span S and its q
   sectors (section 4.2.2; the paper gives neither: 180 and 9). The nearest reading is also
   eq. 15's d; with a span under 360 degrees it depends on the heading, and an obstacle beside
@@ -165,6 +170,7 @@ Factors:
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 from collections.abc import Callable, Sequence
@@ -172,6 +178,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from rov_envs.physics.params import VEHICLES
+from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from sb3_pnn.common.callbacks import VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
@@ -250,6 +257,7 @@ class TrainingSetup:
     exploration_epsilon: float = 0.0
     pnn_exploration_epsilon: float | None = None
     pnn_exploration_epsilon_sine: float | None = None
+    mirror_augmentation: bool = False
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -551,6 +559,8 @@ class TrainingSetup:
         epsilon = self.exploration_epsilon_of(agent, path) if agent and not prior else 0.0
         if epsilon > 0:
             kwargs["exploration_epsilon"] = epsilon
+        if self.mirror_augmentation and agent and not prior:  # named only when on, as epsilon
+            kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
@@ -801,6 +811,7 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_exploration_epsilon": "PNN: uniform action with probability epsilon in training",
     "pnn_exploration_epsilon_sine": "PNN: uniform action with probability epsilon on the sine path",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
+    "mirror_augmentation": "learners: half of each minibatch mirrored left-right",
     "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "pnn_goal_obs": "PNN observes the goal part too",

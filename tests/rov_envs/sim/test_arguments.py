@@ -25,7 +25,7 @@ BAD = [
     ("start_noise", 0.5),
     ("length", 5.0),
     ("length", float("inf")),
-    ("amplitude", -3.0),
+    ("amplitude", -60.0),
     ("wavelength", 1.0),
     ("sonar_sectors", 0),
     ("sonar_sectors", 2.5),

@@ -7,6 +7,7 @@ import math
 
 import pytest
 
+import rov_envs
 from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
 from sb3_pnn.reproduce.planning.setups import OURS, PAPER, describe_value, parse_setup_changes
 from sb3_pnn.reproduce.running.store import RunStore, StudyConflictError
@@ -416,6 +417,12 @@ def test_exploration_epsilon_reaches_the_learners_only_when_on() -> None:
     _assert_learners_only("exploration_epsilon", 0.05, "exploration_epsilon=0.05", as_all)
     with pytest.raises(ValueError, match=r"exploration_epsilon=1.0 is not allowed"):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("exploration_epsilon", 1.0),))
+
+
+def test_mirror_augmentation_reaches_the_learners_only_when_on() -> None:
+    """mirror_augmentation: the four learners' runs (not the source columns') name rov_envs'
+    mirror map as DiscreteSAC's ``mirror``; off, no run names it."""
+    _assert_learners_only("mirror", rov_envs.LEFT_RIGHT_MIRROR, "mirror_augmentation=true")
 
 
 def test_pnn_exploration_epsilon_is_pnn_s_own_and_the_sine_path_can_differ() -> None:
