@@ -112,6 +112,8 @@ class EnvConfig:
     * ``render_mode``: None or ``"rgb_array"``.
     * ``success_reward``: reward added on the step that reaches the target (default 200; an
       addition to eq. 21, see :mod:`rov_envs.sim.rewards`; 0 gives the paper's reward).
+    * ``obstacle_penalty``: weight of eq. 20's r_v, the charge for passing within 8 m / 5 m of
+      an obstacle's surface (default 1, the paper's; 0 leaves only eq. 21's collision).
     * ``vehicle``: the BlueROV2 parameter set, ``"uuv_simulator"`` (default, the paper's Gazebo
       model) or ``"wu2018"`` (Wu 2018), see :mod:`rov_envs.physics.params`.
     * ``motion_obs``: add the ``"motion"`` part (body-frame sway v in m/s and yaw rate r in
@@ -171,6 +173,7 @@ class EnvConfig:
     max_episode_seconds: float | None = None
     render_mode: str | None = None
     success_reward: float = 200.0
+    obstacle_penalty: float = 1.0
     vehicle: str = DEFAULT_VEHICLE
     motion_obs: bool = True
     control_period: float = CONTROL_PERIOD
@@ -414,16 +417,18 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _non_negative(args: dict[str, Any], name: str) -> float:
+    """Argument ``name`` (its default when absent) as a finite float >= 0."""
+    value = _finite_float(name, args.get(name, DEFAULTS[name]), "a finite float >= 0")
+    if value < 0:
+        raise _bad(name, value, "a finite float >= 0")
+    return value
+
+
 def _check_reward(args: dict[str, Any]) -> dict[str, Any]:
-    success_reward = _finite_float(
-        "success_reward",
-        args.get("success_reward", DEFAULTS["success_reward"]),
-        "a finite float >= 0",
-    )
-    if success_reward < 0:
-        raise _bad("success_reward", success_reward, "a finite float >= 0")
     return {
-        "success_reward": success_reward,
+        "success_reward": _non_negative(args, "success_reward"),
+        "obstacle_penalty": _non_negative(args, "obstacle_penalty"),
         "progress_weighted": _boolean(
             "progress_weighted", args.get("progress_weighted", DEFAULTS["progress_weighted"])
         ),

@@ -67,6 +67,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_RULE_GOAL] = 1.0 if config.heading_rule == "goal" else 0.0
     c[K.C_TARGET_R] = TARGET_RADIUS
     c[K.C_SUCCESS_R] = config.success_reward
+    c[K.C_OBSTACLE_W] = config.obstacle_penalty
     c[K.C_UREF] = U_REF
     c[K.C_LAYOUT] = layout_code(config)
     c[K.C_LAYOUT_N] = obstacle_capacity(config)

@@ -100,7 +100,8 @@ C_PROGRESS_W = 28  # 1.0: r_c (eq. 18/19) paid in proportion to progress along t
 C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the goal, not the LOS course
 C_GOAL_DIST = 30  # the goal: 0 = the target point; D > 0 = the path point D m further along x
 C_RULE_GOAL = 31  # 1.0: eq. 21's |a_c| >= pi/2 rule reads the deviation from the goal's bearing
-C_ETD = 32  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_OBSTACLE_W = 32  # weight of eq. 20's r_v (1.0: the paper's)
+C_ETD = 33  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
@@ -385,7 +386,7 @@ def finish_step(
             dy = out[O_Y, i] - y_prev
             r_c *= progress_fraction(cfg, out[O_PROG, i], dx, dy)
     out[O_PREV_GOAL, i] = dist_goal
-    r_v = reward_obstacle(d)
+    r_v = cfg[C_OBSTACLE_W] * reward_obstacle(d)
     a_rule = out[O_AGOAL, i] if cfg[C_RULE_GOAL] != 0.0 else a_c
     code = failure_code(a_rule, g, d, d_L)
     arrived = out[O_PROG, i] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]

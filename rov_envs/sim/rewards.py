@@ -21,7 +21,8 @@ The reward of a step is ``r = r_c + r_v + r_terminal`` (eq. 17 plus eq. 21):
 * ``r_v`` (eq. 20): -2 when ``5 < d <= 8``, -4 when ``2 < d <= 5``, else 0, where ``d`` is the
   noise-free distance from the vehicle's centre to the nearest obstacle SURFACE (centre distance
   minus radius): the paper's obstacles are cylinders and its collision test ``d <= 2`` only makes
-  sense for a surface distance.
+  sense for a surface distance. The argument ``obstacle_penalty`` (default 1, the paper's)
+  weights it; 0 drops the term.
 * ``r_terminal`` (eq. 21): -200 once when the episode fails, i.e. when ``|g| >= d_L``,
   ``|a_c| >= pi/2`` or ``d <= 2`` (several at once still give -200). The paper says the vehicle
   "will receive another reward" in those cases, so it is added to ``r_c + r_v`` of that step.

@@ -16,6 +16,13 @@ check ranks by its own-task success, then its success among the drawn obstacles,
 return: of the policies that solve their task equally well, the one that also passes obstacles
 it never trained on is kept. This is model selection on a validation distribution, as early
 stopping is; it changes nothing in training.
+
+Every check also records how closely the policy kept its route on those episodes (mean abs(g),
+the cross-track error in metres, and mean abs(a_c), the heading error in radians). With
+``rank_by="route"`` a check ranks, after its success (and its drawn success), by the smaller
+mean abs(g) instead of the larger return: on the planning tasks the reward's obstacle term
+(paper eq. 20) pays for detours that keep 8 m from every obstacle, so of two checks that solve
+the task the one with the larger return is often the one that leaves the route wider.
 """
 
 from __future__ import annotations
@@ -36,19 +43,35 @@ VALIDATION_EPISODES = 30
 DRAWN_VALIDATION_SEED = 30_000
 #: The obstacle generator of those checks (none of the new layouts' generators).
 DRAWN_VALIDATION_LAYOUT = "scatter"
+#: What breaks a tie of success between two checks: the larger mean return (the default) or the
+#: smaller mean abs(g) (the route kept closer).
+RANKINGS = ("return", "route")
 
 
-def validation_rank(check: dict[str, Any]) -> tuple[float, ...]:
+def checked_ranking(rank_by: Any) -> str:
+    """``rank_by`` if it is one of :data:`RANKINGS`, else a ValueError naming it."""
+    if rank_by not in RANKINGS:
+        raise ValueError(f"rank_by={rank_by!r} is not allowed: expected one of {list(RANKINGS)}")
+    return str(rank_by)
+
+
+def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
     success rate, then (when the check ran them) the success among drawn obstacles, then mean
-    return, of one ``history`` entry of :class:`KeepBestOnValidation`."""
+    return (``rank_by="return"``) or minus mean abs(g) (``"route"``), of one ``history`` entry
+    of :class:`KeepBestOnValidation`."""
+    if checked_ranking(rank_by) == "route":
+        if "mean_abs_cross_track" not in check:
+            raise ValueError(
+                f"validation check {check!r} has no 'mean_abs_cross_track': ranking by route "
+                "needs checks that recorded it"
+            )
+        last = -float(check["mean_abs_cross_track"])
+    else:
+        last = float(check["mean_return"])
     if "drawn_success_rate" in check:
-        return (
-            float(check["success_rate"]),
-            float(check["drawn_success_rate"]),
-            float(check["mean_return"]),
-        )
-    return (float(check["success_rate"]), float(check["mean_return"]))
+        return (float(check["success_rate"]), float(check["drawn_success_rate"]), last)
+    return (float(check["success_rate"]), last)
 
 
 class KeepBestOnValidation(BaseCallback):
@@ -66,6 +89,7 @@ class KeepBestOnValidation(BaseCallback):
         drawn_episodes: episodes per check among drawn obstacles (>= 0; 0, the default: none).
         drawn_layout: their obstacle generator (:mod:`rov_envs.sim.layouts`).
         drawn_seed: their first seed.
+        rank_by: what ranks checks of equal success (:data:`RANKINGS`; :func:`validation_rank`).
     """
 
     def __init__(
@@ -79,6 +103,7 @@ class KeepBestOnValidation(BaseCallback):
         drawn_episodes: int = 0,
         drawn_layout: str = DRAWN_VALIDATION_LAYOUT,
         drawn_seed: int = DRAWN_VALIDATION_SEED,
+        rank_by: str = "return",
     ) -> None:
         super().__init__(verbose=0)
         for name, value, least in (
@@ -104,9 +129,11 @@ class KeepBestOnValidation(BaseCallback):
         self.drawn_episodes = drawn_episodes
         self.drawn_layout = str(drawn_layout)
         self.drawn_seed = int(drawn_seed)
+        self.rank_by = checked_ranking(rank_by)
         self.episodes = 0
-        #: One entry per check: {"episode", "success_rate", "mean_return"} and, with
-        #: ``drawn_episodes``, "drawn_success_rate".
+        #: One entry per check: {"episode", "success_rate", "mean_return",
+        #: "mean_abs_cross_track", "mean_abs_heading_error"} and, with ``drawn_episodes``,
+        #: "drawn_success_rate".
         self.history: list[dict[str, float]] = []
         self.best_episode: int | None = None
         self._best_key: tuple[float, ...] | None = None
@@ -139,6 +166,8 @@ class KeepBestOnValidation(BaseCallback):
             "episode": self.episodes,
             "success_rate": result.success_rate,
             "mean_return": result.mean_return,
+            "mean_abs_cross_track": result.mean_abs_cross_track,
+            "mean_abs_heading_error": result.mean_abs_heading_error,
         }
         if self.drawn_episodes:
             from sb3_pnn.evaluation.evaluate import trained_env_kwargs
@@ -153,7 +182,7 @@ class KeepBestOnValidation(BaseCallback):
             )
             entry["drawn_success_rate"] = drawn.success_rate
         self.history.append(entry)
-        key = validation_rank(entry)
+        key = validation_rank(entry, self.rank_by)
         if self._best_key is None or key > self._best_key:
             self._best_key = key
             self.best_episode = self.episodes
@@ -181,4 +210,6 @@ class KeepBestOnValidation(BaseCallback):
                 drawn_layout=self.drawn_layout,
                 drawn_seed=self.drawn_seed,
             )
+        if self.rank_by != "return":
+            data["rank_by"] = self.rank_by
         return data

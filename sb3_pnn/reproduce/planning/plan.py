@@ -207,8 +207,9 @@ class RunSpec:
     trace_episodes: int = 0
     sac_kwargs: dict[str, Any] = field(default_factory=dict)
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # the training environment's
-    # {"every": N, "episodes": K}: keep the best policy on validation episodes (empty: the last)
-    validation: dict[str, int] = field(default_factory=dict)
+    # {"every": N, "episodes": K[, "drawn_episodes": D][, "rank_by": "route"]}: keep the best
+    # policy on validation episodes (empty: the last)
+    validation: dict[str, int | str] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         data = json.loads(json.dumps(asdict(self)))

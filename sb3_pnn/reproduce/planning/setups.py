@@ -166,6 +166,15 @@ Factors:
   :data:`sb3_pnn.common.callbacks.DRAWN_VALIDATION_SEED`); a check then ranks by its own-task
   success, then its success among those obstacles, then its return. 0: own-task checks only.
   Model selection on a validation distribution; training is unchanged.
+* ``keep_best_by``: what ranks the learners' validation checks of equal success: ``"return"``
+  (the larger mean return; ours) or ``"route"`` (the smaller mean abs(g) on the same episodes:
+  the route kept closer). Eq. 20's obstacle term pays for detours that keep 8 m from every
+  obstacle, so the return prefers checks that leave the route wider. The source columns keep
+  ranking by return. Model selection on the training task; training is unchanged.
+* ``planning_obstacle_penalty``: weight of eq. 20's r_v (-2 within 8 m, -4 within 5 m of an
+  obstacle's surface, per step) in the learners' planning tasks, training and evaluation (1: the
+  paper's; 0: only eq. 21's collision charges for closeness). The source columns' tasks keep
+  the paper's. The term pays for detours that keep 8 m from every obstacle.
 """
 
 from __future__ import annotations
@@ -179,7 +188,7 @@ from typing import Any
 
 from rov_envs.physics.params import VEHICLES
 from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
-from sb3_pnn.common.callbacks import VALIDATION_EPISODES, VALIDATION_EVERY
+from sb3_pnn.common.callbacks import RANKINGS, VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
 from sb3_pnn.progressive.selective_policy import (
@@ -232,6 +241,7 @@ class TrainingSetup:
     learner_target_entropy_ratio: float | None = None
     keep_best: bool = False
     keep_best_drawn: int = 0
+    keep_best_by: str = "return"
     pnn_lateral_init: float = 1.0
     pnn_lateral_init_sine: float | None = None
     pnn_critic_priors: str = "both"
@@ -267,6 +277,7 @@ class TrainingSetup:
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     planning_layout: str = "fixed"
+    planning_obstacle_penalty: float = 1.0
     sonar_span: float = 180.0
     sonar_sectors: int = 9
 
@@ -305,6 +316,16 @@ class TrainingSetup:
             raise ValueError(
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
                 "the best candidate is chosen on its validation checks (keep_best=true)"
+            )
+        if self.keep_best_by not in RANKINGS:
+            raise ValueError(
+                f"keep_best_by={self.keep_best_by!r} is not allowed: expected one of "
+                f"{list(RANKINGS)}"
+            )
+        if self.keep_best_by != "return" and not self.keep_best:
+            raise ValueError(
+                f"keep_best_by={self.keep_best_by!r} is not allowed with keep_best off: it ranks "
+                "the validation checks (keep_best=true)"
             )
         if self.keep_best_drawn and not self.keep_best:
             raise ValueError(
@@ -406,6 +427,12 @@ class TrainingSetup:
                 f"oa_corridor={corridor!r} is not allowed: expected a half-width in [1, 100] (m), "
                 "or None for the task's own"
             )
+        penalty = self.planning_obstacle_penalty
+        if isinstance(penalty, bool) or not is_finite_number(penalty) or penalty < 0:
+            raise ValueError(
+                f"planning_obstacle_penalty={penalty!r} is not allowed: expected a finite number "
+                ">= 0 (1: eq. 20 as the paper weights it)"
+            )
         if self.planning_layout not in ("fixed", "scatter"):
             raise ValueError(
                 f"planning_layout={self.planning_layout!r} is not allowed: expected 'fixed' "
@@ -454,12 +481,15 @@ class TrainingSetup:
         """What one learner's planning runs add to :meth:`env_kwargs` (training and evaluation
         alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only prior being
         a path follower that reads the path part (the part is there for SPNN's avoidance
-        column)."""
+        column); every learner's ``planning_obstacle_penalty`` when it is not the paper's."""
+        kwargs: dict[str, Any] = {}
+        if self.planning_obstacle_penalty != 1.0:  # named only off the paper's weight (hashes)
+            kwargs["obstacle_penalty"] = float(self.planning_obstacle_penalty)
         if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
-            return {"goal_obs": False}
+            kwargs["goal_obs"] = False
         if agent == "spnn" and self.oa_offset_obs:
-            return {"goal_offset": True}
-        return {}
+            kwargs["goal_offset"] = True
+        return kwargs
 
     def source_env_kwargs(self, env_id: str) -> dict[str, Any]:
         """What a source column's task adds to :meth:`env_kwargs` (training and evaluation
@@ -640,14 +670,18 @@ class TrainingSetup:
             )
         return self.on_path(name, path), default
 
-    def validation(self, learner: bool = False) -> dict[str, int]:
+    def validation(self, learner: bool = False) -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
-        a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles."""
+        a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
+        and rank by ``keep_best_by`` (named only when it is not the return, so that the specs
+        of runs ranked by return keep their hash)."""
         if not self.keep_best:
             return {}
-        checks = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
+        checks: dict[str, int | str] = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
         if learner and self.keep_best_drawn:
             checks["drawn_episodes"] = self.keep_best_drawn
+        if learner and self.keep_best_by != "return":
+            checks["rank_by"] = self.keep_best_by
         return checks
 
     def to_dict(self) -> dict[str, Any]:
@@ -787,6 +821,7 @@ FACTOR_LABELS: dict[str, str] = {
     "learner_target_entropy_ratio": "learners' target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
     "keep_best_drawn": "learners' checks also among drawn obstacles (episodes)",
+    "keep_best_by": "learners' checks of equal success ranked by",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
     "pnn_critic_priors": "PNN critics read the prior's critic",
@@ -824,6 +859,7 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
     "planning_layout": "obstacles the planning agents train on",
+    "planning_obstacle_penalty": "weight of eq. 20's r_v in the learners' planning tasks",
 }
 
 

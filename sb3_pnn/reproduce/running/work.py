@@ -95,6 +95,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
             n_episodes=int(spec.validation["episodes"]),
             env_kwargs=env_kwargs,
             drawn_episodes=int(spec.validation.get("drawn_episodes", 0)),
+            rank_by=str(spec.validation.get("rank_by", "return")),
         )
         callbacks.append(keeper)
     start = time.time()
@@ -161,7 +162,7 @@ def kept_check(run: Path) -> tuple[float, float] | None:
         return None
     from sb3_pnn.common.callbacks import validation_rank
 
-    return validation_rank(kept[0])
+    return validation_rank(kept[0], record.get("rank_by", "return"))
 
 
 def select(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:

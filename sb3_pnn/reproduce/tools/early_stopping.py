@@ -70,7 +70,7 @@ def stopped_run(run_dir: Path, patience: int) -> dict[str, Any] | None:
     record, lengths = _read_json(validation), _read_json(episodes)
     try:
         history, lengths = record["history"], lengths["lengths"]
-        keys = [validation_rank(check) for check in history]
+        keys = [validation_rank(check, record.get("rank_by", "return")) for check in history]
         episodes_of = [int(check["episode"]) for check in history]
         full = episodes_of.index(record["best_episode"]) if history else None
     except (KeyError, TypeError, ValueError) as error:
@@ -85,7 +85,7 @@ def stopped_run(run_dir: Path, patience: int) -> dict[str, Any] | None:
     return {
         "same_check": kept == full,
         "success_change": keys[kept][0] - keys[full][0],
-        "return_change": keys[kept][1] - keys[full][1],
+        "return_change": history[kept]["mean_return"] - history[full]["mean_return"],
         "steps_run": sum(lengths[: episodes_of[stop]]),
         "steps": sum(lengths),
     }

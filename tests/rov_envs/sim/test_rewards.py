@@ -88,6 +88,27 @@ def test_step_reward_matches_eq19_eq20_at_state() -> None:
     assert r == pytest.approx(rc + rv, abs=1e-12)
 
 
+@pytest.mark.parametrize("weight", [0.0, 0.5, 3.0])
+def test_obstacle_penalty_weights_eq20_only(weight: float) -> None:
+    # the same placement as above: eq. 20's r_v scaled, r_c untouched, the sum still r
+    _, (_, r1, _, _, paper) = _place("rov_envs/PlanningSine-v0", 30.0, 11.0, 0.0)
+    _, (_, r, _, _, info) = _place(
+        "rov_envs/PlanningSine-v0", 30.0, 11.0, 0.0, obstacle_penalty=weight
+    )
+    assert paper["r_v"] in (-2.0, -4.0)
+    assert info["r_v"] == weight * paper["r_v"]
+    assert info["r_c"] == paper["r_c"]
+    assert r == pytest.approx(r1 + (weight - 1.0) * paper["r_v"], abs=1e-12)
+
+
+@pytest.mark.parametrize("bad", [-0.5, float("inf"), "1"])
+def test_obstacle_penalty_refuses_bad_weights(bad) -> None:
+    import gymnasium as gym
+
+    with pytest.raises(ValueError, match=r"obstacle_penalty=.* is not allowed: expected a finite"):
+        gym.make("rov_envs/PlanningSine-v0", obstacle_penalty=bad)
+
+
 def _check_failure(info, r, term, trunc, reason: str) -> None:
     assert term and not trunc
     assert info["end_reason"] == reason

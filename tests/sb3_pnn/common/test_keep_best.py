@@ -30,6 +30,13 @@ def _model() -> DiscreteSAC:
     return DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}, seed=0)
 
 
+def _result(rate: float, ret: float, g: float = 1.0) -> SimpleNamespace:
+    """What the callback reads of an evaluation: success, return, mean abs(g), mean abs(a_c)."""
+    return SimpleNamespace(
+        success_rate=rate, mean_return=ret, mean_abs_cross_track=g, mean_abs_heading_error=0.1
+    )
+
+
 def _first_weight(model: DiscreteSAC) -> th.Tensor:
     return next(iter(model.policy.state_dict().values())).clone()
 
@@ -41,7 +48,7 @@ def test_restore_brings_back_the_weights_of_the_best_check(monkeypatch) -> None:
     def fake_evaluate(policy, env_id, n_episodes, seed, env_kwargs):
         calls.append((env_id, n_episodes, seed, env_kwargs))
         rate, ret = next(scores)
-        return SimpleNamespace(success_rate=rate, mean_return=ret)
+        return _result(rate, ret)
 
     monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", fake_evaluate)
     model = _model()
@@ -118,9 +125,9 @@ def test_drawn_checks_rank_between_own_success_and_return(monkeypatch) -> None:
     def fake_evaluate(policy, env_id, n_episodes, seed, env_kwargs):
         calls.append((n_episodes, seed, env_kwargs))
         if "layout" in env_kwargs:
-            return SimpleNamespace(success_rate=next(drawn), mean_return=0.0)
+            return _result(next(drawn), 0.0)
         rate, ret = next(own)
-        return SimpleNamespace(success_rate=rate, mean_return=ret)
+        return _result(rate, ret)
 
     monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", fake_evaluate)
     model = _model()
@@ -173,3 +180,58 @@ def test_keep_best_drawn_reaches_the_learners_only() -> None:
         ValueError, match=r"keep_best_drawn=-1 is not allowed: expected an integer >= 0$"
     ):
         OURS.with_(keep_best_drawn=-1)
+
+
+def test_route_ranking_keeps_the_closest_route_among_the_best_successes(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g)) of four checks
+    own = iter([(1.0, 50.0, 3.0), (1.0, 10.0, 1.5), (0.9, 90.0, 0.5), (1.0, 60.0, 1.5)])
+    monkeypatch.setattr(
+        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(own))
+    )
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by="route")
+    keeper.init_callback(model)
+    snapshots = []
+    for i in range(4):
+        with th.no_grad():
+            for p in model.policy.parameters():
+                p.add_(1.0)
+        snapshots.append(_first_weight(model))
+        keeper.episodes = i + 1
+        keeper.check()
+    # check 2 keeps the route closest among the 100 % checks (check 3's 0.5 m fails more;
+    # check 4 only ties it, whatever its return): by return, check 4 would be kept
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
+    record = keeper.to_dict()
+    assert record["rank_by"] == "route" and record["best_episode"] == 2
+    assert [h["mean_abs_cross_track"] for h in record["history"]] == [3.0, 1.5, 0.5, 1.5]
+    by_return = max(record["history"], key=validation_rank)
+    assert by_return["episode"] == 4
+    assert "rank_by" not in KeepBestOnValidation(ENV).to_dict()  # the default's record
+
+
+def test_route_ranking_refuses_bad_values_and_records_without_the_route() -> None:
+    with pytest.raises(ValueError, match=r"rank_by='closest' is not allowed: expected one of"):
+        KeepBestOnValidation(ENV, rank_by="closest")
+    with pytest.raises(ValueError, match="has no 'mean_abs_cross_track'"):
+        validation_rank({"success_rate": 1.0, "mean_return": 3.0}, "route")
+    check = {"success_rate": 1.0, "mean_return": 3.0, "mean_abs_cross_track": 2.0}
+    assert validation_rank(check, "route") == (1.0, -2.0)
+    assert validation_rank({**check, "drawn_success_rate": 0.5}, "route") == (1.0, 0.5, -2.0)
+
+
+def test_keep_best_by_reaches_the_learners_only() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+
+    setup = OURS.with_(keep_best_by="route")
+    assert setup.validation() == OURS.validation()  # the source columns rank by return
+    assert setup.validation(learner=True)["rank_by"] == "route"
+    assert "rank_by" not in OURS.validation(learner=True)  # default: the study's hashes
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_by", "route"),)))
+    for spec in plan:
+        ranking = spec.validation.get("rank_by")
+        assert ranking == ("route" if spec.kind == "transfer" else None), spec.run_id
+    with pytest.raises(ValueError, match="keep_best_by='route' is not allowed with keep_best off"):
+        PAPER.with_(keep_best_by="route")
+    with pytest.raises(ValueError, match=r"keep_best_by='gap' is not allowed: expected one of"):
+        OURS.with_(keep_best_by="gap")

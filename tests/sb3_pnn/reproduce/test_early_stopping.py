@@ -23,7 +23,9 @@ def _kept_by_callback(scores, monkeypatch) -> int:
 
     def fake_evaluate(policy, env_id, n_episodes, seed, env_kwargs):
         rate, ret = next(it)
-        return SimpleNamespace(success_rate=rate, mean_return=ret)
+        return SimpleNamespace(
+            success_rate=rate, mean_return=ret, mean_abs_cross_track=1.0, mean_abs_heading_error=0.1
+        )
 
     monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", fake_evaluate)
     keeper = KeepBestOnValidation("rov_envs/PathFollowingStraight-v0", every=1, n_episodes=1)

@@ -425,6 +425,24 @@ def test_mirror_augmentation_reaches_the_learners_only_when_on() -> None:
     _assert_learners_only("mirror", rov_envs.LEFT_RIGHT_MIRROR, "mirror_augmentation=true")
 
 
+def test_planning_obstacle_penalty_reaches_the_learners_planning_envs_only() -> None:
+    """planning_obstacle_penalty: rov_envs' ``obstacle_penalty`` in the learners' training and
+    evaluation envs (the source columns and baselines keep the paper's eq. 20 and their
+    hashes); at 1, the paper's weight, no run names it; a bad value is refused naming it."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = (("planning_obstacle_penalty", 0.0),)
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        learner = spec.agent in LEARNERS
+        expected = 0.0 if learner else None
+        assert spec.env_kwargs.get("obstacle_penalty") == expected, spec.run_id
+        assert {t[2].get("obstacle_penalty") for t in spec.eval_tasks} <= {expected}
+        if not learner:
+            assert spec.config_hash() == plain[spec.run_id].config_hash(), spec.run_id
+    assert all("obstacle_penalty" not in s.env_kwargs for s in plain.values())
+    with pytest.raises(ValueError, match=r"planning_obstacle_penalty=-1 is not allowed"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("planning_obstacle_penalty", -1),))
+
+
 def test_pnn_exploration_epsilon_is_pnn_s_own_and_the_sine_path_can_differ() -> None:
     """The default study: PNN explores with epsilon 0.05 on the straight path and 0 on the
     sinusoid (pnn_exploration_epsilon, pnn_exploration_epsilon_sine); every other run is
