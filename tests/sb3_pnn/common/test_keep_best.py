@@ -41,6 +41,20 @@ def _first_weight(model: DiscreteSAC) -> th.Tensor:
     return next(iter(model.policy.state_dict().values())).clone()
 
 
+def _checks_of_changing_weights(keeper: KeepBestOnValidation, model: DiscreteSAC, n: int):
+    """Run ``n`` checks, changing the weights before each (so that each check sees its own) and
+    counting them as training episodes 1..n; the first weight tensor at each check."""
+    snapshots = []
+    for i in range(n):
+        with th.no_grad():
+            for p in model.policy.parameters():
+                p.add_(1.0)
+        snapshots.append(_first_weight(model))
+        keeper.episodes = i + 1
+        keeper.check()
+    return snapshots
+
+
 def test_restore_brings_back_the_weights_of_the_best_check(monkeypatch) -> None:
     scores = iter([(0.2, 5.0), (0.6, -1.0), (0.6, -3.0), (0.4, 9.0)])
     calls = []
@@ -54,13 +68,7 @@ def test_restore_brings_back_the_weights_of_the_best_check(monkeypatch) -> None:
     model = _model()
     keeper = KeepBestOnValidation(ENV, every=2, n_episodes=7, env_kwargs={"motion_obs": True})
     keeper.init_callback(model)
-    snapshots = []
-    for _ in range(4):
-        with th.no_grad():
-            for p in model.policy.parameters():
-                p.add_(1.0)  # every check sees different weights
-        snapshots.append(_first_weight(model))
-        keeper.check()
+    snapshots = _checks_of_changing_weights(keeper, model, 4)
     assert calls[0] == (ENV, 7, VALIDATION_SEED, {"motion_obs": True})
     # 0.6 beats 0.2; the later 0.6 has a lower mean return; 0.4 is worse: the second is kept
     assert [h["success_rate"] for h in keeper.history] == [0.2, 0.6, 0.6, 0.4]
@@ -135,13 +143,7 @@ def test_drawn_checks_rank_between_own_success_and_return(monkeypatch) -> None:
         ENV, every=1, n_episodes=7, env_kwargs={"motion_obs": True}, drawn_episodes=5
     )
     keeper.init_callback(model)
-    snapshots = []
-    for _ in range(4):
-        with th.no_grad():
-            for p in model.policy.parameters():
-                p.add_(1.0)
-        snapshots.append(_first_weight(model))
-        keeper.check()
+    snapshots = _checks_of_changing_weights(keeper, model, 4)
     # the drawn episodes: the same task among scatter obstacles, on their own seeds
     assert calls[1] == (5, DRAWN_VALIDATION_SEED, {"motion_obs": True, "layout": "scatter"})
     # check 2 (drawn 0.6) beats check 1 (0.2) despite its lower return; check 3's 0.9 does not
@@ -191,14 +193,7 @@ def test_route_ranking_keeps_the_closest_route_among_the_best_successes(monkeypa
     model = _model()
     keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by="route")
     keeper.init_callback(model)
-    snapshots = []
-    for i in range(4):
-        with th.no_grad():
-            for p in model.policy.parameters():
-                p.add_(1.0)
-        snapshots.append(_first_weight(model))
-        keeper.episodes = i + 1
-        keeper.check()
+    snapshots = _checks_of_changing_weights(keeper, model, 4)
     # check 2 keeps the route closest among the 100 % checks (check 3's 0.5 m fails more;
     # check 4 only ties it, whatever its return): by return, check 4 would be kept
     assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
