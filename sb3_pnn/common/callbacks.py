@@ -22,7 +22,10 @@ the cross-track error in metres, and mean abs(a_c), the heading error in radians
 ``rank_by="route"`` a check ranks, after its success (and its drawn success), by the smaller
 mean abs(g) instead of the larger return: on the planning tasks the reward's obstacle term
 (paper eq. 20) pays for detours that keep 8 m from every obstacle, so of two checks that solve
-the task the one with the larger return is often the one that leaves the route wider.
+the task the one with the larger return is often the one that leaves the route wider. With
+``rank_by="time"`` it ranks by the shorter mean time to the target of its successful episodes
+instead: a policy that alternates hard turns near obstacles crosses them slowly, and on fields
+denser than its training task runs out of time.
 """
 
 from __future__ import annotations
@@ -43,9 +46,11 @@ VALIDATION_EPISODES = 30
 DRAWN_VALIDATION_SEED = 30_000
 #: The obstacle generator of those checks (none of the new layouts' generators).
 DRAWN_VALIDATION_LAYOUT = "scatter"
-#: What breaks a tie of success between two checks: the larger mean return (the default) or the
-#: smaller mean abs(g) (the route kept closer).
-RANKINGS = ("return", "route")
+#: What breaks a tie of success between two checks: the larger mean return (the default), the
+#: smaller mean abs(g) (the route kept closer) or the shorter mean time to the target.
+RANKINGS = ("return", "route", "time")
+#: The check entry that the rankings other than the return minimise.
+_MINIMISED = {"route": "mean_abs_cross_track", "time": "mean_time_to_target"}
 
 
 def checked_ranking(rank_by: Any) -> str:
@@ -58,15 +63,17 @@ def checked_ranking(rank_by: Any) -> str:
 def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
     success rate, then (when the check ran them) the success among drawn obstacles, then mean
-    return (``rank_by="return"``) or minus mean abs(g) (``"route"``), of one ``history`` entry
-    of :class:`KeepBestOnValidation`."""
-    if checked_ranking(rank_by) == "route":
-        if "mean_abs_cross_track" not in check:
+    return (``rank_by="return"``), minus mean abs(g) (``"route"``) or minus the mean time to the
+    target (``"time"``; a check without a success ranks last), of one ``history`` entry of
+    :class:`KeepBestOnValidation`."""
+    key = _MINIMISED.get(checked_ranking(rank_by))
+    if key is not None:
+        if key not in check:
             raise ValueError(
-                f"validation check {check!r} has no 'mean_abs_cross_track': ranking by route "
-                "needs checks that recorded it"
+                f"validation check {check!r} has no {key!r}: ranking by {rank_by} needs checks "
+                "that recorded it"
             )
-        last = -float(check["mean_abs_cross_track"])
+        last = -float("inf") if check[key] is None else -float(check[key])
     else:
         last = float(check["mean_return"])
     if "drawn_success_rate" in check:
@@ -132,8 +139,8 @@ class KeepBestOnValidation(BaseCallback):
         self.rank_by = checked_ranking(rank_by)
         self.episodes = 0
         #: One entry per check: {"episode", "success_rate", "mean_return",
-        #: "mean_abs_cross_track", "mean_abs_heading_error"} and, with ``drawn_episodes``,
-        #: "drawn_success_rate".
+        #: "mean_abs_cross_track", "mean_abs_heading_error", "mean_time_to_target"} and, with
+        #: ``drawn_episodes``, "drawn_success_rate".
         self.history: list[dict[str, float]] = []
         self.best_episode: int | None = None
         self._best_key: tuple[float, ...] | None = None
@@ -168,6 +175,7 @@ class KeepBestOnValidation(BaseCallback):
             "mean_return": result.mean_return,
             "mean_abs_cross_track": result.mean_abs_cross_track,
             "mean_abs_heading_error": result.mean_abs_heading_error,
+            "mean_time_to_target": result.mean_time_to_target,
         }
         if self.drawn_episodes:
             from sb3_pnn.evaluation.evaluate import trained_env_kwargs

@@ -8,6 +8,12 @@ two prior columns [path following, obstacle avoidance]; rows sum to 1.
   a mask, never by Python control flow.
 * ``"soft"``: g_2 = sigmoid((d_th - d) / temperature), g_1 = 1 - g_2; it tends to the hard gate
   as temperature -> 0 (at d == d_th it gives 0.5, the hard gate picks column 2).
+* ``corridor`` (beyond the paper, either distance gate): the avoidance column is weighted only
+  while the vehicle is inside the fraction ``corridor`` of the corridor whose edge ends the
+  episode, |g| / d_L < corridor, read from the observation's "path" part [a_c / pi, g / d_L];
+  outside it the path column steers, whatever the sonar reads. The avoidance column trains
+  within 30 m of its start-goal line and, among obstacles near a bend of the sinusoid (d_L =
+  15 m), keeps detouring until the corridor's edge ends the episode (docs/ablation section 25).
 * ``"learned"`` (A2T-style, Rajendran et al. 2017): g = softmax(MLP(s)) from the flattened new
   observation; trained by the loss of the network that owns it. The actor and each critic own
   one (a shared gate would sit in two optimizers); hard and soft gates have no parameters, so the
@@ -40,6 +46,8 @@ class DistanceGate(nn.Module):
         sonar_range: float = 25.0,
         sonar_key: str = "sonar",
         temperature: float = 1.0,
+        corridor: float | None = None,
+        path_key: str = "path",
     ):
         super().__init__()
         if mode not in ("hard", "soft"):
@@ -48,16 +56,30 @@ class DistanceGate(nn.Module):
             raise ValueError(f"soft gate temperature must be > 0 (metres), got {temperature!r}")
         if not sonar_range > 0:
             raise ValueError(f"sonar_range must be > 0 (metres), got {sonar_range!r}")
+        if corridor is not None and not 0 < corridor <= 1:
+            raise ValueError(
+                f"gate corridor must be a fraction of d_L in (0, 1] or None, got {corridor!r}"
+            )
         self.mode = mode
+        self.corridor = None if corridor is None else float(corridor)
+        self.path_key = path_key
         self.d_th = float(d_th)
         self.sonar_range = float(sonar_range)
         self.sonar_key = sonar_key
         self.temperature = float(temperature)
 
-    def rule(self) -> tuple[str, float, float, str, float]:
+    def rule(self) -> tuple[object, ...]:
         """What the gate computes from: two gates with the same rule give the same weights for
         the same observation (they have no parameters)."""
-        return (self.mode, self.d_th, self.sonar_range, self.sonar_key, self.temperature)
+        return (
+            self.mode,
+            self.d_th,
+            self.sonar_range,
+            self.sonar_key,
+            self.temperature,
+            self.corridor,
+            self.path_key,
+        )
 
     def forward(self, obs: dict[str, th.Tensor], features: th.Tensor | None = None) -> th.Tensor:
         d = nearest_distance(obs, self.sonar_key, self.sonar_range)
@@ -65,6 +87,14 @@ class DistanceGate(nn.Module):
             near = (d <= self.d_th).to(d.dtype)
         else:
             near = th.sigmoid((self.d_th - d) / self.temperature)
+        if self.corridor is not None:
+            if self.path_key not in obs:
+                raise KeyError(
+                    f"SPNN gate with a corridor needs observation key {self.path_key!r} "
+                    f"([a_c / pi, g / d_L]); observation has {list(obs)}"
+                )
+            inside = obs[self.path_key].float()[:, 1].abs() < self.corridor
+            near = near * inside.to(d.dtype)
         return th.stack([1.0 - near, near], dim=1)
 
 

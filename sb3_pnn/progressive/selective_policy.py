@@ -95,6 +95,10 @@ class SelectivePolicy(ProgressivePolicy):
         uses the soft gate on the sinusoid, whose 15 m corridor leaves no room for the
         avoidance prior's detours (set-up factor ``spnn_gate_sine``, docs/ablation section 11)
     :param temperature: Temperature (metres) of the soft gate (the study's: 2)
+    :param gate_corridor: With a hard or soft gate, the fraction of the corridor half-width d_L
+        beyond which the path column steers whatever the sonar reads (``|g| / d_L >= c``, read
+        from the observation's "path" part; see :mod:`.gates`). None (default, the paper): the
+        distance alone decides.
     :param gate_hidden: Hidden width of the learned gate
     :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
         (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
@@ -127,6 +131,7 @@ class SelectivePolicy(ProgressivePolicy):
         sonar_key: str = SONAR_KEY,
         gate: str = "hard",
         temperature: float = 1.0,
+        gate_corridor: float | None = None,
         gate_hidden: int = 32,
         critic_priors: bool = True,
         start_as_prior: bool = True,
@@ -144,6 +149,22 @@ class SelectivePolicy(ProgressivePolicy):
                 f"SelectivePolicy needs a Dict observation with a {sonar_key!r} key (the sonar "
                 f"gives the obstacle distance d of eq. 15), got {observation_space}"
             )
+        if gate_corridor is not None:
+            if gate == "learned":
+                raise ValueError(
+                    f"gate_corridor={gate_corridor!r} needs a distance gate ('hard' or 'soft'), "
+                    "got gate='learned'"
+                )
+            if "path" not in observation_space.spaces:
+                raise ValueError(
+                    f"gate_corridor={gate_corridor!r} needs the observation's 'path' part "
+                    f"[a_c / pi, g / d_L], got {observation_space}"
+                )
+            if not (is_finite_number(gate_corridor) and 0 < gate_corridor <= 1):
+                raise ValueError(
+                    f"gate_corridor must be a fraction of d_L in (0, 1] or None, got "
+                    f"{gate_corridor!r}"
+                )
         for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -154,6 +175,7 @@ class SelectivePolicy(ProgressivePolicy):
         self.sonar_key = sonar_key
         self.gate = gate
         self.temperature = float(temperature)
+        self.gate_corridor = None if gate_corridor is None else float(gate_corridor)
         self.gate_hidden = int(gate_hidden)
         super().__init__(
             observation_space,
@@ -196,7 +218,12 @@ class SelectivePolicy(ProgressivePolicy):
         if self.gate == "learned":
             return LearnedGate(features_dim, 2, self.gate_hidden)
         return DistanceGate(
-            self.gate, self.d_th, self.sonar_range, self.sonar_key, self.temperature
+            self.gate,
+            self.d_th,
+            self.sonar_range,
+            self.sonar_key,
+            self.temperature,
+            corridor=self.gate_corridor,
         )
 
     def _mixing(self) -> tuple[float, float]:
@@ -212,6 +239,7 @@ class SelectivePolicy(ProgressivePolicy):
             sonar_key=self.sonar_key,
             gate=self.gate,
             temperature=self.temperature,
+            gate_corridor=self.gate_corridor,
             gate_hidden=self.gate_hidden,
         )
 

@@ -83,6 +83,11 @@ Factors:
   gate of its own (``None``: ``spnn_gate`` on both paths). Ours: the switch on the straight
   path, the soft gate (T = 2 m) on the sinusoid, whose 15 m corridor leaves no room for the
   avoidance prior's detours once the switch has handed it the laterals.
+* ``spnn_gate_corridor``: with a hard or soft gate, the fraction c of the corridor half-width
+  d_L (eq. 21's off-path edge) beyond which SPNN's selector hands the laterals to the path
+  column whatever the sonar reads (|g| / d_L >= c). ``None`` (the paper): the distance alone
+  decides. Ours: 0.9. On the straight path (d_L = 30 m) few detours reach it; on the sinusoid
+  (15 m) it ends the avoidance column's detours before the corridor's edge ends the episode.
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -167,8 +172,9 @@ Factors:
   success, then its success among those obstacles, then its return. 0: own-task checks only.
   Model selection on a validation distribution; training is unchanged.
 * ``keep_best_by``: what ranks the learners' validation checks of equal success: ``"return"``
-  (the larger mean return; ours) or ``"route"`` (the smaller mean abs(g) on the same episodes:
-  the route kept closer). Eq. 20's obstacle term pays for detours that keep 8 m from every
+  (the larger mean return; ours), ``"route"`` (the smaller mean abs(g) on the same episodes:
+  the route kept closer) or ``"time"`` (the shorter mean time to the target: the faster
+  crossing). Eq. 20's obstacle term pays for detours that keep 8 m from every
   obstacle, so the return prefers checks that leave the route wider. The source columns keep
   ranking by return. Model selection on the training task; training is unchanged.
 * ``planning_obstacle_penalty``: weight of eq. 20's r_v (-2 within 8 m, -4 within 5 m of an
@@ -254,6 +260,7 @@ class TrainingSetup:
     spnn_gate: str = "hard"
     spnn_gate_sine: str | None = None
     spnn_gate_temperature: float = 2.0
+    spnn_gate_corridor: float | None = None
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -366,6 +373,18 @@ class TrainingSetup:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected one of {list(GATES)}"
                     + (" (or None for spnn_gate's)" if name == "spnn_gate_sine" else "")
+                )
+        corridor = self.spnn_gate_corridor
+        if corridor is not None:
+            if not (is_finite_number(corridor) and 0 < corridor <= 1):
+                raise ValueError(
+                    f"spnn_gate_corridor={corridor!r} is not allowed: expected a fraction of "
+                    "d_L in (0, 1], or None"
+                )
+            if "learned" in (self.spnn_gate, self.spnn_gate_sine):
+                raise ValueError(
+                    f"spnn_gate_corridor={corridor!r} is not allowed with a learned gate: it "
+                    "bounds the distance gates ('hard', 'soft'); add spnn_gate_corridor=null"
                 )
         temperature = self.spnn_gate_temperature
         if not (is_finite_number(temperature) and temperature > 0):
@@ -600,6 +619,8 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["gate"] = gate
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
+        if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
+            kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         return kwargs
 
     def target_entropy_ratio_of(self, agent: str) -> float:
@@ -788,6 +809,7 @@ OURS = TrainingSetup(
     spnn_own_weight=1.0,
     spnn_prior_kl=DEFAULT_PRIOR_KL,
     spnn_gate_sine="soft",
+    spnn_gate_corridor=0.9,
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
     pnn_n_steps=8,
@@ -834,6 +856,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",
     "spnn_gate_sine": "SPNN selector on the sine path",
     "spnn_gate_temperature": "SPNN soft selector's temperature (m)",
+    "spnn_gate_corridor": "SPNN selector hands back at abs(g) / d_L >= c",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",

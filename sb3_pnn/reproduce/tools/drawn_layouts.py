@@ -10,11 +10,17 @@ drawn afresh every episode by the ``scatter`` generator (``layout="scatter"``: 1
 dense / sine_dense generators' parameters), on the validation seeds (20000+), with the run's env
 keywords otherwise, and prints each run's success rate and how its episodes ended.
 
+``--gate-corridor C`` (SPNN runs, a diagnosis at inference) replays the policies with their gate
+bounded at abs(g) / d_L >= C (``none``: eq. 15's unbounded gate), whatever they trained with; the
+bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
+
 Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path straight
-    [--seeds 0 1 2] [--episodes 50]
+    [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9]
 """
 
 from __future__ import annotations
+
+import argparse
 
 import numpy as np
 import torch as th
@@ -34,21 +40,57 @@ from sb3_pnn.reproduce.tools.replay import (
 LAYOUT = DRAWN_VALIDATION_LAYOUT
 
 
+def corridor_value(text: str) -> float | str:
+    """``--gate-corridor``'s value: a fraction of d_L in (0, 1], or ``"none"``."""
+    if text == "none":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not allowed: expected a fraction of d_L in (0, 1], or none"
+        )
+    return value
+
+
+def bound_gate(parser: argparse.ArgumentParser, model, corridor: float | str, run) -> None:
+    """Set the SPNN policy's gate bound to ``corridor`` (``"none"``: unbounded) for predict."""
+    gate = getattr(getattr(getattr(model, "policy", None), "actor", None), "gate", None)
+    if not hasattr(gate, "corridor"):
+        parser.error(f"--gate-corridor needs SPNN runs with a distance gate; {run} has none")
+    gate.corridor = None if corridor == "none" else float(corridor)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = task_parser(__doc__, episodes=50)
     parser.add_argument(
         "--agent", default="spnn", help="the runs' agent (spnn, pnn, ..., pid, adaptive_pid)"
     )
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    parser.add_argument(
+        "--gate-corridor",
+        type=corridor_value,
+        metavar="C",
+        help="SPNN runs: replay with the gate bounded at abs(g) / d_L >= C (0 < C <= 1), or "
+        "'none' for eq. 15's unbounded gate (default: as trained)",
+    )
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)
     rates = []
-    print(f"{args.agent} on {env_id} with layout={LAYOUT!r}, {args.episodes} validation episodes")
+    bound = "" if args.gate_corridor is None else f", gate bound {args.gate_corridor}"
+    print(
+        f"{args.agent} on {env_id} with layout={LAYOUT!r}, {args.episodes} validation episodes"
+        + bound
+    )
     print("| seed | success | episodes ended by |\n|---|---|---|")
     for seed, run in run_folders(args.study, args.agent, args.path, args.seeds):
         env_kwargs = dict(run_env_kwargs(parser, run), layout=LAYOUT)
         model = run_model(parser, run)
+        if args.gate_corridor is not None:
+            bound_gate(parser, model, args.gate_corridor, run)
         policy = args.agent if model is None else model
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs

@@ -30,10 +30,15 @@ def _model() -> DiscreteSAC:
     return DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}, seed=0)
 
 
-def _result(rate: float, ret: float, g: float = 1.0) -> SimpleNamespace:
-    """What the callback reads of an evaluation: success, return, mean abs(g), mean abs(a_c)."""
+def _result(rate: float, ret: float, g: float = 1.0, time: float | None = 100.0) -> SimpleNamespace:
+    """What the callback reads of an evaluation: success, return, mean abs(g), mean abs(a_c),
+    mean time to the target."""
     return SimpleNamespace(
-        success_rate=rate, mean_return=ret, mean_abs_cross_track=g, mean_abs_heading_error=0.1
+        success_rate=rate,
+        mean_return=ret,
+        mean_abs_cross_track=g,
+        mean_abs_heading_error=0.1,
+        mean_time_to_target=time,
     )
 
 
@@ -184,16 +189,23 @@ def test_keep_best_drawn_reaches_the_learners_only() -> None:
         OURS.with_(keep_best_drawn=-1)
 
 
-def test_route_ranking_keeps_the_closest_route_among_the_best_successes(monkeypatch) -> None:
-    # own-task (success, return, mean abs(g)) of four checks
-    own = iter([(1.0, 50.0, 3.0), (1.0, 10.0, 1.5), (0.9, 90.0, 0.5), (1.0, 60.0, 1.5)])
+def _ranked_checks(monkeypatch, own: list[tuple], rank_by: str):
+    """A keeper ranking by ``rank_by`` after one check per ``own`` entry (the evaluation's
+    (success, return, ...) as :func:`_result` takes them): (keeper, model, weight snapshots)."""
+    results = iter(own)
     monkeypatch.setattr(
-        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(own))
+        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(results))
     )
     model = _model()
-    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by="route")
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by=rank_by)
     keeper.init_callback(model)
-    snapshots = _checks_of_changing_weights(keeper, model, 4)
+    return keeper, model, _checks_of_changing_weights(keeper, model, len(own))
+
+
+def test_route_ranking_keeps_the_closest_route_among_the_best_successes(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g)) of four checks
+    own = [(1.0, 50.0, 3.0), (1.0, 10.0, 1.5), (0.9, 90.0, 0.5), (1.0, 60.0, 1.5)]
+    keeper, model, snapshots = _ranked_checks(monkeypatch, own, "route")
     # check 2 keeps the route closest among the 100 % checks (check 3's 0.5 m fails more;
     # check 4 only ties it, whatever its return): by return, check 4 would be kept
     assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
@@ -213,6 +225,28 @@ def test_route_ranking_refuses_bad_values_and_records_without_the_route() -> Non
     check = {"success_rate": 1.0, "mean_return": 3.0, "mean_abs_cross_track": 2.0}
     assert validation_rank(check, "route") == (1.0, -2.0)
     assert validation_rank({**check, "drawn_success_rate": 0.5}, "route") == (1.0, 0.5, -2.0)
+
+
+def test_time_ranking_keeps_the_fastest_crossing_among_the_best_successes(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g), mean time to the target) of four checks
+    own = [(1.0, 50.0, 1.0, 260.0), (1.0, 10.0, 2.0, 240.0), (0.9, 90.0, 0.5, 200.0)]
+    own.append((1.0, 60.0, 1.0, 250.0))
+    keeper, model, snapshots = _ranked_checks(monkeypatch, own, "time")
+    # check 2 is the fastest of the 100 % checks (check 3 is faster but fails more); by return
+    # check 4, by route check 1
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
+    record = keeper.to_dict()
+    assert record["rank_by"] == "time" and record["best_episode"] == 2
+    assert [h["mean_time_to_target"] for h in record["history"]] == [260.0, 240.0, 200.0, 250.0]
+    assert max(record["history"], key=validation_rank)["episode"] == 4
+    assert max(record["history"], key=lambda h: validation_rank(h, "route"))["episode"] == 1
+
+
+def test_time_ranking_puts_a_check_without_a_success_last() -> None:
+    none = {"success_rate": 0.0, "mean_return": 9.0, "mean_time_to_target": None}
+    assert validation_rank(none, "time") == (0.0, -float("inf"))
+    with pytest.raises(ValueError, match="has no 'mean_time_to_target': ranking by time"):
+        validation_rank({"success_rate": 1.0, "mean_return": 3.0}, "time")
 
 
 def test_keep_best_by_reaches_the_learners_only() -> None:

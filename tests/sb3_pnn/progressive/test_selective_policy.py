@@ -73,6 +73,45 @@ def test_soft_gate_tends_to_the_hard_gate(priors):
                 assert th.allclose(g[~off], th.full((1, 2), 0.5))
 
 
+@pytest.mark.parametrize("gate", ["hard", "soft"])
+def test_corridor_hands_the_laterals_back_to_the_path_column_near_the_edge(priors, gate, tmp_path):
+    plain = _model(priors, gate=gate, temperature=2.0).policy
+    model = _model(priors, gate=gate, temperature=2.0, gate_corridor=0.9)
+    bounded = model.policy
+    bounded.load_state_dict(plain.state_dict())
+    obs = _obs(plain)
+    # g / d_L of each sample: inside, at the bound (outside), outside, inside, outside
+    obs["path"][:, 1] = th.tensor([0.2, 0.9, -0.95, -0.5, 1.0])
+    outside = th.tensor([False, True, True, False, True])
+    g_plain, g_bounded = plain.gate_weights(obs), bounded.gate_weights(obs)
+    assert th.equal(g_bounded[~outside], g_plain[~outside])
+    assert th.equal(g_bounded[outside], th.tensor([[1.0, 0.0]]).expand(3, 2))
+    assert g_plain[outside, 1].min() > 0.4  # the sonar alone would give the avoidance column
+    with th.no_grad():  # actor and critics follow the same gate
+        assert th.equal(bounded.actor(obs)[~outside], plain.actor(obs)[~outside])
+        assert not th.allclose(bounded.critic(obs)[0][outside], plain.critic(obs)[0][outside])
+    model.save(tmp_path / "spnn.zip")  # the bound is part of the saved policy
+    loaded = DiscreteSAC.load(tmp_path / "spnn.zip", device="cpu").policy
+    assert loaded.actor.gate.corridor == 0.9
+    assert th.equal(loaded.gate_weights(obs), g_bounded)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"gate_corridor": 0.0},
+            r"gate_corridor must be a fraction of d_L in \(0, 1\] or None, got 0.0",
+        ),
+        ({"gate_corridor": 1.5}, r"got 1.5"),
+        ({"gate_corridor": 0.9, "gate": "learned"}, r"needs a distance gate .* got gate='learned'"),
+    ],
+)
+def test_corridor_refuses_bad_values(priors, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        _model(priors, **kwargs)
+
+
 def test_learned_gate_is_a_trained_softmax(priors):
     model = _model(priors, gate="learned")
     policy = model.policy

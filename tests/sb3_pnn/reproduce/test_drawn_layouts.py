@@ -49,3 +49,22 @@ def test_a_missing_run_or_model_stops_with_a_message(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main([str(tmp_path), "--seeds", "0"])
     assert "spnn-straight-s0/model.zip does not exist" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value", ["0", "1.5", "wide"])
+def test_a_bad_gate_bound_is_refused_by_name(tmp_path, capsys, value):
+    with pytest.raises(SystemExit) as stop:
+        main([str(tmp_path), "--gate-corridor", value])
+    assert stop.value.code == 2
+    assert f"{value!r} is not allowed: expected a fraction of d_L in (0, 1], or none" in (
+        capsys.readouterr().err
+    )
+
+
+def test_a_gate_bound_needs_a_policy_with_a_distance_gate(tmp_path, capsys):
+    _pid_run(tmp_path, {"control_period": 0.5})
+    with pytest.raises(SystemExit):
+        main(
+            [str(tmp_path), "--agent", "adaptive_pid", "--episodes", "1", "--gate-corridor", "0.9"]
+        )
+    assert "--gate-corridor needs SPNN runs with a distance gate" in capsys.readouterr().err

@@ -24,7 +24,11 @@ def _kept_by_callback(scores, monkeypatch) -> int:
     def fake_evaluate(policy, env_id, n_episodes, seed, env_kwargs):
         rate, ret = next(it)
         return SimpleNamespace(
-            success_rate=rate, mean_return=ret, mean_abs_cross_track=1.0, mean_abs_heading_error=0.1
+            success_rate=rate,
+            mean_return=ret,
+            mean_abs_cross_track=1.0,
+            mean_abs_heading_error=0.1,
+            mean_time_to_target=100.0,
         )
 
     monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", fake_evaluate)

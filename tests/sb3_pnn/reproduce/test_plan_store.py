@@ -241,9 +241,30 @@ def test_spnn_d_th_sine_gives_the_sine_spnn_its_own_switch_distance() -> None:
     }
 
 
+def test_spnn_gate_corridor_reaches_both_spnn_runs_only() -> None:
+    """The default hands both SPNN policies back at abs(g) / d_L >= 0.9 (the sine one keeps its
+    soft gate); spnn_gate_corridor=null (the paper's gate) names no bound and changes only the
+    SPNN runs."""
+    _, default = _spnn_gates()
+    _, paper_gate = _spnn_gates((("spnn_gate_corridor", None),))
+    for run_id, spec in default.items():
+        kwargs = spec.sac_kwargs.get("policy_kwargs", {})
+        assert kwargs.get("gate_corridor") == (0.9 if spec.agent == "spnn" else None)
+        other = paper_gate[run_id]
+        assert "gate_corridor" not in other.sac_kwargs.get("policy_kwargs", {})
+        assert (spec.config_hash() == other.config_hash()) == (spec.agent != "spnn")
+    assert default["spnn-sine-s0"].sac_kwargs["policy_kwargs"]["gate"] == "soft"
+    with pytest.raises(ValueError, match="spnn_gate_corridor=0.9 is not allowed with a learned"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("spnn_gate", "learned"),))
+    learned = (("spnn_gate", "learned"), ("spnn_gate_corridor", None))
+    assert StudyConfig(budget_name="tiny", seeds=1, setup_changes=learned)
+
+
 @pytest.mark.parametrize(
     ("factor", "value"),
     [
+        ("spnn_gate_corridor", 0.0),
+        ("spnn_gate_corridor", 1.2),
         ("spnn_d_th", 0.0),
         ("spnn_d_th_sine", -2.0),
         ("spnn_gate", "fuzzy"),
