@@ -153,7 +153,7 @@ class SelectivePolicy(ProgressivePolicy):
             if gate == "learned":
                 raise ValueError(
                     f"gate_corridor={gate_corridor!r} needs a distance gate ('hard' or 'soft'), "
-                    "got gate='learned'"
+                    "got gate='learned' (set gate_corridor=None)"
                 )
             if "path" not in observation_space.spaces:
                 raise ValueError(

@@ -856,7 +856,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",
     "spnn_gate_sine": "SPNN selector on the sine path",
     "spnn_gate_temperature": "SPNN soft selector's temperature (m)",
-    "spnn_gate_corridor": "SPNN selector hands back at abs(g) / d_L >= c",
+    "spnn_gate_corridor": "SPNN gate's corridor bound c (the path column beyond abs(g) = c d_L)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
