@@ -42,6 +42,7 @@ from sb3_pnn.safe_io.limits import (
     MAX_CHECKPOINT_BYTES,
     MAX_JSON_BYTES,
     MAX_WEIGHTS_BYTES,
+    ZIP_DAMAGE,
     check_file_size,
     check_widths,
     member_sizes,
@@ -250,7 +251,7 @@ def read_zip(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[str, th
             member_sizes(archive, ["policy.pth"], MAX_WEIGHTS_BYTES, where)
             with archive.open("policy.pth") as f:
                 state_dict = th.load(f, map_location="cpu", weights_only=True)
-    except zipfile.BadZipFile as e:
+    except ZIP_DAMAGE as e:
         raise _fail(path, "not a zip file (expected an SB3 .zip checkpoint)") from e
     except (RuntimeError, EOFError, OSError, pickle.UnpicklingError, KeyError) as e:
         # weights_only=True refuses any pickled object that is not a tensor / plain container
@@ -350,7 +351,7 @@ def trained_env_id(path: str | os.PathLike[str]) -> str | None:
             if "sb3_pnn.json" not in archive.namelist():
                 return None
             meta = parse_json(read_member(archive, "sb3_pnn.json", MAX_JSON_BYTES, where), where)
-    except zipfile.BadZipFile as e:
+    except ZIP_DAMAGE as e:
         raise _fail(path, "not a zip file (expected an SB3 .zip checkpoint)") from e
     env = meta.get("env") if isinstance(meta, dict) else None
     env_id = env.get("id") if isinstance(env, dict) else None

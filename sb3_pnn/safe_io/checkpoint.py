@@ -48,6 +48,7 @@ from sb3_pnn.safe_io.limits import (
     MAX_CHECKPOINT_BYTES,
     MAX_JSON_BYTES,
     MAX_WEIGHTS_BYTES,
+    ZIP_DAMAGE,
     check_number,
     check_widths,
     member_sizes,
@@ -192,7 +193,7 @@ def _read_weights(raw: io.BytesIO, names: list[str], name: str, device: Any) -> 
     except (ValueError, RuntimeError, EOFError, OSError, pickle.UnpicklingError) as e:
         # weights_only=True refuses anything that is not tensors / plain containers
         raise ValueError(f"{name!r}: cannot read the weights (.pth members) ({e})") from e
-    except (zipfile.BadZipFile, KeyError, IndexError, UnicodeDecodeError) as e:
+    except (*ZIP_DAMAGE, KeyError, IndexError, UnicodeDecodeError) as e:
         raise ValueError(f"{name!r}: the weights (.pth members) are corrupt ({e})") from e
     return params, variables or {}
 
@@ -213,7 +214,7 @@ def read_checkpoint(
             if JSON_MEMBER not in names:
                 raise _missing_json_member(name, names)
             meta_bytes = read_member(archive, JSON_MEMBER, MAX_JSON_BYTES, repr(name))
-    except zipfile.BadZipFile as e:
+    except ZIP_DAMAGE as e:
         raise ValueError(
             f"{name!r} is not a valid zip file ({e}): truncated or corrupt; expected a "
             "DiscreteSAC .zip checkpoint"

@@ -12,9 +12,15 @@ from __future__ import annotations
 
 import json
 import zipfile
+import zlib
 from typing import Any
 
 #: Largest checkpoint or prior file read (bytes).
+#: What zipfile raises on a damaged archive: BadZipFile, and, from a flipped header field or a
+#: corrupt member, NotImplementedError (an unsupported zip version or compression method) and
+#: zlib.error (a broken deflate stream). The loaders turn each into a ValueError naming the file.
+ZIP_DAMAGE: tuple[type[Exception], ...] = (zipfile.BadZipFile, NotImplementedError, zlib.error)
+
 MAX_CHECKPOINT_BYTES = 1 << 30
 #: Largest JSON member read from a checkpoint (``sb3_pnn.json``, SB3's ``data``), uncompressed.
 MAX_JSON_BYTES = 16 << 20
@@ -52,7 +58,7 @@ def read_member(archive: zipfile.ZipFile, name: str, limit: int, where: str) -> 
     member_sizes(archive, [name], limit, where)
     try:
         return archive.read(name)
-    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as error:
+    except (*ZIP_DAMAGE, OSError, EOFError, ValueError) as error:
         raise ValueError(f"{where}: member {name!r} is corrupt ({error})") from None
 
 

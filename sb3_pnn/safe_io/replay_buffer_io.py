@@ -34,6 +34,7 @@ from sb3_pnn.safe_io.json_codec import safe_class, safe_class_name
 from sb3_pnn.safe_io.limits import (
     MAX_BUFFER_BYTES,
     MAX_JSON_BYTES,
+    ZIP_DAMAGE,
     check_number,
     member_sizes,
     parse_json,
@@ -138,7 +139,7 @@ def _read_archive(raw: io.BytesIO, name: str) -> tuple[dict[str, Any], dict[str,
         with np.load(raw, allow_pickle=False) as npz:
             meta_text = str(npz["__meta__"])
             arrays = {k: npz[k] for k in npz.files if k != "__meta__"}
-    except (ValueError, zipfile.BadZipFile, OSError, EOFError, KeyError) as e:
+    except (ValueError, *ZIP_DAMAGE, OSError, EOFError, KeyError) as e:
         if isinstance(e, ValueError) and "replay buffer file" in str(e):
             raise
         raise ValueError(f"{where} is truncated or corrupt ({e})") from e

@@ -92,3 +92,31 @@ def test_damaged_files_load_or_raise_value_error(
             outcomes["loaded"] += 1
     assert sum(outcomes.values()) == FLIPS + CUTS
     assert outcomes["refused"] >= CUTS  # every truncation at least is refused
+
+
+def _central_entry_set(data: bytes, member: str, offset: int, value: int) -> bytes:
+    """``data`` with one byte of ``member``'s central-directory entry set to ``value``
+    (``offset`` from the entry's signature: 6 the version needed to extract, 10 the
+    compression method)."""
+    end = data.rindex(b"PK\x05\x06")
+    at = int.from_bytes(data[end + 16 : end + 20], "little")  # the central directory's start
+    for _ in range(int.from_bytes(data[end + 10 : end + 12], "little")):
+        assert data[at : at + 4] == b"PK\x01\x02"
+        lengths = [int.from_bytes(data[at + k : at + k + 2], "little") for k in (28, 30, 32)]
+        if data[at + 46 : at + 46 + lengths[0]] == member.encode():
+            out = bytearray(data)
+            out[at + offset] = value
+            return bytes(out)
+        at += 46 + sum(lengths)
+    raise AssertionError(f"no member {member!r} in the zip")
+
+
+@pytest.mark.parametrize("kind", ["model", "prior"])
+@pytest.mark.parametrize(("offset", "value"), [(6, 84), (10, 99)])
+def test_an_unsupported_zip_version_or_method_is_refused(kind, offset, value, files, tmp_path):
+    """A flipped header field that zipfile answers with NotImplementedError (zip version 8.4,
+    compression method 99) is a damaged file like any other: ValueError."""
+    path = tmp_path / "model.zip"
+    path.write_bytes(_central_entry_set(files["model"], "policy.pth", offset, value))
+    with pytest.raises(ValueError):
+        (_load_model if kind == "model" else _load_prior)(path)
