@@ -28,6 +28,16 @@ from torch import nn
 GATES = ("hard", "soft", "learned")
 
 
+def checked_corridor(value: object, name: str = "corridor") -> float | None:
+    """A gate's corridor bound: None, or a fraction of d_L in (0, 1]; else a ValueError naming
+    ``name`` and the value."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value <= 1:
+        raise ValueError(f"{name} must be a fraction of d_L in (0, 1] or None, got {value!r}")
+    return float(value)
+
+
 def nearest_distance(obs: dict[str, th.Tensor], sonar_key: str, sonar_range: float) -> th.Tensor:
     """d = min over sonar sectors of obs[sonar_key], times sonar_range: shape (B,)."""
     if not isinstance(obs, dict) or sonar_key not in obs:
@@ -56,12 +66,8 @@ class DistanceGate(nn.Module):
             raise ValueError(f"soft gate temperature must be > 0 (metres), got {temperature!r}")
         if not sonar_range > 0:
             raise ValueError(f"sonar_range must be > 0 (metres), got {sonar_range!r}")
-        if corridor is not None and not 0 < corridor <= 1:
-            raise ValueError(
-                f"gate corridor must be a fraction of d_L in (0, 1] or None, got {corridor!r}"
-            )
         self.mode = mode
-        self.corridor = None if corridor is None else float(corridor)
+        self.corridor = checked_corridor(corridor, "gate corridor")
         self.path_key = path_key
         self.d_th = float(d_th)
         self.sonar_range = float(sonar_range)

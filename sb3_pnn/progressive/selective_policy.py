@@ -40,7 +40,7 @@ from stable_baselines3.common.type_aliases import Schedule
 from torch import nn
 
 from sb3_pnn.common.checks import is_finite_number
-from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate
+from sb3_pnn.progressive.gates import GATES, DistanceGate, LearnedGate, checked_corridor
 from sb3_pnn.progressive.prior_loading import PriorSpec
 from sb3_pnn.progressive.progressive_policy import SONAR_KEY, SONAR_RANGE, ProgressivePolicy
 from sb3_pnn.safe_io.policy_registry import register_policy_class
@@ -160,11 +160,6 @@ class SelectivePolicy(ProgressivePolicy):
                     f"gate_corridor={gate_corridor!r} needs the observation's 'path' part "
                     f"[a_c / pi, g / d_L], got {observation_space}"
                 )
-            if not (is_finite_number(gate_corridor) and 0 < gate_corridor <= 1):
-                raise ValueError(
-                    f"gate_corridor must be a fraction of d_L in (0, 1] or None, got "
-                    f"{gate_corridor!r}"
-                )
         for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -175,7 +170,7 @@ class SelectivePolicy(ProgressivePolicy):
         self.sonar_key = sonar_key
         self.gate = gate
         self.temperature = float(temperature)
-        self.gate_corridor = None if gate_corridor is None else float(gate_corridor)
+        self.gate_corridor = checked_corridor(gate_corridor, "gate_corridor")
         self.gate_hidden = int(gate_hidden)
         super().__init__(
             observation_space,
