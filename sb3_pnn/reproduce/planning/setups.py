@@ -15,7 +15,8 @@ Factors:
 * ``control_period``: seconds per environment step (the paper does not give it).
 * ``updates``: ``"episode:N"``: N gradient steps of batch 256 after every episode (Table 3,
   "Number of Samples per Episode 10"); ``"step:K"``: one gradient step every K environment
-  steps (K = 1 is section 3.2's "At each step, 256 samples ... are used to update").
+  steps (K = 1 is section 3.2's "At each step, 256 samples ... are used to update");
+  ``"step:KxG"``: G gradient steps every K environment steps.
 * ``prior_updates``: the update schedule of the source columns' runs (DiscreteSAC on the
   path-following and obstacle-avoidance tasks), when it should differ from ``updates``
   (empty: the same). A source column is trained once and reused by every agent and seed, so
@@ -212,18 +213,26 @@ LEARNING_STARTS = 256
 
 
 def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
-    """``(train_freq, gradient_steps)`` of DiscreteSAC for an ``updates`` string."""
+    """``(train_freq, gradient_steps)`` of DiscreteSAC for an ``updates`` string:
+    ``"episode:N"``, N gradient steps after each episode; ``"step:K"``, one every K environment
+    steps; ``"step:KxG"``, G every K steps (``"step:1x2"`` keeps a 0.5 s schedule's updates per
+    simulated second at a 1.0 s control period)."""
     kind, _, number = str(updates).partition(":")
-    expected = '"episode:N" (N updates after each episode) or "step:K" (1 update every K steps)'
+    expected = (
+        '"episode:N" (N updates after each episode), "step:K" (1 update every K steps) or '
+        '"step:KxG" (G updates every K steps)'
+    )
+    every, times, count = number.partition("x") if kind == "step" else (number, "", "")
     try:
-        n = int(number)
+        n = int(every)
+        steps = int(count) if times else 1
     except ValueError:
-        n = 0
-    if kind not in ("episode", "step") or n < 1:
-        raise ValueError(f"updates={updates!r} is not allowed: expected {expected}, N, K >= 1")
+        n = steps = 0
+    if kind not in ("episode", "step") or n < 1 or steps < 1:
+        raise ValueError(f"updates={updates!r} is not allowed: expected {expected}, N, K, G >= 1")
     if kind == "episode":
         return (1, "episode"), n
-    return (n, "step"), 1
+    return (n, "step"), steps
 
 
 @dataclass(frozen=True)
@@ -916,7 +925,7 @@ def describe_value(name: str, value: Any) -> str:
         (freq, unit), steps = parse_updates(value)
         if unit == "episode":
             return f"{steps} per episode"
-        return "1 per step" if freq == 1 else f"1 per {freq} steps"
+        return f"{steps} per step" if freq == 1 else f"{steps} per {freq} steps"
     if name == "goal_distance":
         return "the target point" if value is None else f"{value:g} m ahead"
     if name == "heading_rule":

@@ -25,6 +25,7 @@ from sb3_pnn.reproduce.planning.setups import (
     OURS,
     PAPER,
     TrainingSetup,
+    describe_value,
     parse_setup_changes,
     parse_updates,
 )
@@ -375,3 +376,21 @@ def test_stopped_ablation_session_is_recorded_and_the_report_quotes_it(
     assert main(argv, work=fake_work) == 0  # the same command resumes and writes the report
     report = (out / "report.md").read_text()
     assert "stopped by the user after 1 new run(s)" in report
+
+
+def test_several_updates_per_step() -> None:
+    """``step:KxG``: G gradient steps every K environment steps, as DiscreteSAC reads them;
+    at a 1.0 s control period ``step:1x2`` keeps a 0.5 s ``step:1`` schedule's updates per
+    simulated second."""
+    assert parse_updates("step:1x2") == ((1, "step"), 2)
+    assert parse_updates("step:3x4") == ((3, "step"), 4)
+    setup = TrainingSetup(updates="step:2", prior_updates="step:1x2")
+    prior = setup.sac_kwargs(prior=True)
+    assert (prior["train_freq"], prior["gradient_steps"]) == ([1, "step"], 2)
+    learner = setup.sac_kwargs(agent="spnn", path="straight")
+    assert (learner["train_freq"], learner["gradient_steps"]) == ([2, "step"], 1)
+    assert describe_value("prior_updates", "step:1x2") == "2 per step"
+    assert describe_value("updates", "step:4") == "1 per 4 steps"
+    for bad in ("step:1x", "step:1x0", "step:0x2", "step:x2", "episode:2x3", "step:1x2x3"):
+        with pytest.raises(ValueError, match=f"updates='{bad}' is not allowed: expected"):
+            parse_updates(bad)
