@@ -212,7 +212,7 @@ TRAIN_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
 LEARNING_STARTS = 256
 
 
-def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
+def parse_updates(updates: str, name: str = "updates") -> tuple[tuple[int, str], int]:
     """``(train_freq, gradient_steps)`` of DiscreteSAC for an ``updates`` string:
     ``"episode:N"``, N gradient steps after each episode; ``"step:K"``, one every K environment
     steps; ``"step:KxG"``, G every K steps (``"step:1x2"`` keeps a 0.5 s schedule's updates per
@@ -229,7 +229,7 @@ def parse_updates(updates: str) -> tuple[tuple[int, str], int]:
     except ValueError:
         n = steps = 0
     if kind not in ("episode", "step") or n < 1 or steps < 1:
-        raise ValueError(f"updates={updates!r} is not allowed: expected {expected}, N, K, G >= 1")
+        raise ValueError(f"{name}={updates!r} is not allowed: expected {expected}, N, K, G >= 1")
     if kind == "episode":
         return (1, "episode"), n
     return (n, "step"), steps
@@ -304,7 +304,7 @@ class TrainingSetup:
             )
         parse_updates(self.updates)
         if self.prior_updates:
-            parse_updates(self.prior_updates)
+            parse_updates(self.prior_updates, "prior_updates")
         for name, low in (
             ("batch_size", 1),
             ("prior_batch_size", 0),

@@ -394,3 +394,5 @@ def test_several_updates_per_step() -> None:
     for bad in ("step:1x", "step:1x0", "step:0x2", "step:x2", "episode:2x3", "step:1x2x3"):
         with pytest.raises(ValueError, match=f"updates='{bad}' is not allowed: expected"):
             parse_updates(bad)
+    with pytest.raises(ValueError, match="prior_updates='step:1x0' is not allowed"):
+        TrainingSetup(prior_updates="step:1x0")
