@@ -27,6 +27,7 @@ import torch as th
 
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
+from sb3_pnn.progressive.gates import checked_corridor
 from sb3_pnn.reproduce.tools.replay import (
     run_env_kwargs,
     run_folders,
@@ -45,14 +46,11 @@ def corridor_value(text: str) -> float | str:
     if text == "none":
         return text
     try:
-        value = float(text)
+        return checked_corridor(float(text))  # the range the gate itself accepts
     except ValueError:
-        value = float("nan")
-    if not 0 < value <= 1:
         raise argparse.ArgumentTypeError(
             f"{text!r} is not allowed: expected a fraction of d_L in (0, 1], or none"
-        )
-    return value
+        ) from None
 
 
 def bound_gate(parser: argparse.ArgumentParser, model, corridor: float | str, run) -> None:
