@@ -294,7 +294,7 @@ def prior_run(
         episodes=episodes,
         eval_tasks=(("own", env_id, {**setup.env_kwargs(), **setup.source_env_kwargs(env_id)}),),
         eval_episodes=eval_episodes,
-        sac_kwargs=setup.sac_kwargs(prior=True),
+        sac_kwargs=setup.sac_kwargs(prior=True, column=name),
         env_kwargs=setup.train_env_kwargs(env_id),
         validation=setup.validation(),
     )

@@ -21,6 +21,19 @@ Factors:
   path-following and obstacle-avoidance tasks), when it should differ from ``updates``
   (empty: the same). A source column is trained once and reused by every agent and seed, so
   more updates there cost little beside the transfer runs.
+* ``oa_updates``: the update schedule of the obstacle-avoidance column's runs alone, when it
+  should differ from ``prior_updates`` (empty: the same). The avoidance task among random fields
+  is the hardest source task, and only SPNN reads its column, so its schedule can change
+  without retraining the path followers, PNN or SAC-Multi.
+* ``oa_gamma``: the discount factor of the obstacle-avoidance column's runs (None: Tables 2-3's
+  0.99, every run's). The discount is per decision, so at a 0.5 s control period 0.99 looks
+  about 50 s ahead (1 / (1 - gamma) steps) while an avoidance episode lasts up to 120 s: from
+  its start the +200 of arriving is worth less than a tenth of a collision's -200 met in the
+  next seconds, and a column can settle on crawling until the time limit. 0.995 looks as far
+  ahead in seconds as 0.99 does at 1.0 s.
+* ``spnn_gamma``, ``pnn_gamma``: the discount factor of SPNN's, PNN's planning runs (None:
+  Tables 2-3's 0.99; PNN's n-step targets discount with it). A planning episode lasts 150-400 s
+  at 0.5 s per decision, three to eight times what 0.99 looks ahead.
 * ``batch_size``: samples per gradient step (section 3.2: "256 samples ... are used to
   update"); ``prior_batch_size``: that of the source columns' runs, when it should differ
   (0: the same), as ``prior_updates`` is to ``updates``.
@@ -243,6 +256,10 @@ class TrainingSetup:
     control_period: float = 0.2
     updates: str = "episode:10"
     prior_updates: str = ""
+    oa_updates: str = ""
+    oa_gamma: float | None = None
+    spnn_gamma: float | None = None
+    pnn_gamma: float | None = None
     batch_size: int = PAPER_BATCH_SIZE
     prior_batch_size: int = 0
     train_start_noise: bool = False
@@ -303,8 +320,9 @@ class TrainingSetup:
                 f"vehicle={self.vehicle!r} is not allowed: expected one of {list(VEHICLES)}"
             )
         parse_updates(self.updates)
-        if self.prior_updates:
-            parse_updates(self.prior_updates, "prior_updates")
+        for name in ("prior_updates", "oa_updates"):
+            if getattr(self, name):
+                parse_updates(getattr(self, name), name)
         for name, low in (
             ("batch_size", 1),
             ("prior_batch_size", 0),
@@ -319,6 +337,13 @@ class TrainingSetup:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
                     + (" (0: as batch_size)" if name == "prior_batch_size" else "")
+                )
+        for name in ("oa_gamma", "spnn_gamma", "pnn_gamma"):
+            gamma = getattr(self, name)
+            if gamma is not None and not (is_finite_number(gamma) and 0.0 < gamma < 1.0):
+                raise ValueError(
+                    f"{name}={gamma!r} is not allowed: expected a discount factor in (0, 1), "
+                    "or None for Tables 2-3's 0.99"
                 )
         sine_n = self.pnn_n_steps_sine
         if sine_n is not None and (
@@ -581,13 +606,19 @@ class TrainingSetup:
             raise ValueError(f"path={path!r} is not allowed: expected 'straight' or 'sine'")
         return path in PATH_CHOICES[getattr(self, name)]
 
-    def sac_kwargs(self, prior: bool = False, agent: str = "", path: str = "") -> dict[str, Any]:
+    def sac_kwargs(
+        self, prior: bool = False, agent: str = "", path: str = "", column: str = ""
+    ) -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
-        ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``);
-        ``agent="pnn"`` adds PNN's ``lateral_scale_init`` and, on planning path ``path``
-        (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
-        ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight`` and ``start_as_prior``."""
+        ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``; for
+        ``column="oa"``, the avoidance column, ``oa_updates`` and ``oa_gamma`` where set);
+        ``agent="pnn"`` adds PNN's ``lateral_scale_init``, ``pnn_gamma`` and, on planning path
+        ``path`` (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
+        ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight``, ``start_as_prior`` and
+        ``spnn_gamma``."""
         updates = self.prior_updates if prior and self.prior_updates else self.updates
+        if prior and column == "oa" and self.oa_updates:
+            updates = self.oa_updates
         train_freq, gradient_steps = parse_updates(updates)
         kwargs: dict[str, Any] = {
             "learning_starts": LEARNING_STARTS,
@@ -595,6 +626,11 @@ class TrainingSetup:
             "gradient_steps": gradient_steps,
             "policy_kwargs": {"net_arch": list(self.net_arch)},
         }
+        gamma = self.oa_gamma if prior and column == "oa" else None
+        if not prior and agent in ("spnn", "pnn"):
+            gamma = self.spnn_gamma if agent == "spnn" else self.pnn_gamma
+        if gamma is not None:  # named only when set, so earlier runs keep their hash
+            kwargs["gamma"] = float(gamma)
         batch_size = self.prior_batch_size if prior and self.prior_batch_size else self.batch_size
         # Named only when it departs from DiscreteSAC's default, so that the specs (and result
         # hashes) of runs made before this factor existed stay the same.
@@ -839,6 +875,10 @@ FACTOR_LABELS: dict[str, str] = {
     "control_period": "control period (s)",
     "updates": "update schedule",
     "prior_updates": "update schedule of the source columns",
+    "oa_updates": "update schedule of the avoidance column",
+    "oa_gamma": "discount gamma of the avoidance column",
+    "spnn_gamma": "discount gamma of SPNN's runs",
+    "pnn_gamma": "discount gamma of PNN's runs",
     "batch_size": "samples per update",
     "prior_batch_size": "samples per update of the source columns",
     "train_start_noise": "training start noise",
@@ -907,6 +947,10 @@ def describe_value(name: str, value: Any) -> str:
     """A factor value as the report prints it."""
     if name == "prior_updates" and not value:
         return "as the update schedule"
+    if name == "oa_updates" and not value:
+        return "as the source columns'"
+    if name in ("oa_gamma", "spnn_gamma", "pnn_gamma") and value is None:
+        return "Tables 2-3's 0.99"
     if name == "prior_batch_size" and not value:
         return "as the samples per update"
     if name in ("pf_start_spread", "planning_start_spread") and value is None:
@@ -921,8 +965,8 @@ def describe_value(name: str, value: Any) -> str:
         return "as the learners' epsilon"
     if name == "learner_target_entropy_ratio" and value is None:
         return "as the source columns'"
-    if name in ("updates", "prior_updates"):
-        (freq, unit), steps = parse_updates(value)
+    if name in ("updates", "prior_updates", "oa_updates"):
+        (freq, unit), steps = parse_updates(value, name)
         if unit == "episode":
             return f"{steps} per episode"
         return f"{steps} per step" if freq == 1 else f"{steps} per {freq} steps"

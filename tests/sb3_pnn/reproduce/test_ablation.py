@@ -396,3 +396,47 @@ def test_several_updates_per_step() -> None:
             parse_updates(bad)
     with pytest.raises(ValueError, match="prior_updates='step:1x0' is not allowed"):
         TrainingSetup(prior_updates="step:1x0")
+
+
+def test_avoidance_column_updates_change_only_its_runs() -> None:
+    """``oa_updates`` gives the avoidance column its own schedule: its run and the SPNN runs
+    that read it change, every other run of the study keeps its spec (and hash)."""
+    base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}
+    changed = StudyConfig(seeds=1, setup_changes=(("oa_updates", "step:1x2"),))
+    plan = {s.run_id: s for s in build_plan(changed)}
+    assert set(plan) == set(base)
+    differ = {rid for rid in plan if plan[rid].config_hash() != base[rid].config_hash()}
+    assert differ == {"prior-oa-s0"}  # the SPNN runs name it by run id: resumed studies and
+    oa = plan["prior-oa-s0"].sac_kwargs  # adoption compare their priors' hashes too
+    assert (oa["train_freq"], oa["gradient_steps"]) == ([1, "step"], 2)
+    assert base["prior-oa-s0"].sac_kwargs["gradient_steps"] == 1
+    assert describe_value("oa_updates", "") == "as the source columns'"
+    assert describe_value("oa_updates", "step:1x2") == "2 per step"
+    with pytest.raises(ValueError, match="oa_updates='step:0' is not allowed"):
+        TrainingSetup(oa_updates="step:0")
+
+
+@pytest.mark.parametrize(
+    ("factor", "runs"),
+    [
+        ("oa_gamma", {"prior-oa-s0"}),
+        ("spnn_gamma", {"spnn-straight-s0", "spnn-sine-s0"}),
+        ("pnn_gamma", {"pnn-straight-s0", "pnn-sine-s0"}),
+    ],
+)
+def test_discount_factors_change_only_their_runs(factor: str, runs: set[str]) -> None:
+    """``oa_gamma`` sets the avoidance column's discount alone, ``spnn_gamma`` SPNN's,
+    ``pnn_gamma`` PNN's; every other run keeps DiscreteSAC's 0.99 and its hash; a bad value is
+    refused."""
+    base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}
+    changed = StudyConfig(seeds=1, setup_changes=((factor, 0.995),))
+    plan = {s.run_id: s for s in build_plan(changed)}
+    differ = {rid for rid in plan if plan[rid].config_hash() != base[rid].config_hash()}
+    assert differ == runs
+    for rid in runs:
+        assert plan[rid].sac_kwargs["gamma"] == 0.995
+        assert "gamma" not in base[rid].sac_kwargs  # DiscreteSAC's 0.99
+    assert describe_value(factor, None) == "Tables 2-3's 0.99"
+    for bad in (1.0, 0.0, -0.5, float("nan"), "0.9"):
+        with pytest.raises(ValueError, match=f"{factor}={bad!r} is not allowed: expected"):
+            TrainingSetup(**{factor: bad})

@@ -8,6 +8,7 @@ import pytest
 
 import rov_envs
 from sb3_pnn import DiscreteSAC
+from sb3_pnn.reproduce.planning.plan import PRIOR_ENVS
 from sb3_pnn.reproduce.planning.setups import SETUPS, path_of_env
 from sb3_pnn.zoo.configs import (
     CONFIG_ENV_VAR,
@@ -68,7 +69,8 @@ def test_shipped_entries_are_the_studys_setups(algo: str, setup: str) -> None:
     assert path.parent.name == ("zoo_configs" if setup == "ours" else "paper")
     for env_id in APPLIES[algo]:
         source = env_id not in PLANNING  # dsac on a source task trains a prior column
-        sac = training.sac_kwargs(prior=source, agent=algo, path=path_of_env(env_id))
+        column = {v: k for k, v in PRIOR_ENVS.items()}.get(env_id, "")  # oa: oa_updates
+        sac = training.sac_kwargs(prior=source, agent=algo, path=path_of_env(env_id), column=column)
         entry = validate_entry(
             config[env_id], name=env_id, path=path, algo=algo, algo_class=OUR_ALGOS[algo]
         )
