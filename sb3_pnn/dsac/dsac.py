@@ -69,6 +69,8 @@ SelfDiscreteSAC = TypeVar("SelfDiscreteSAC", bound="DiscreteSAC")
 DEFAULT_TARGET_ENTROPY_RATIO = 0.5
 #: Samples per gradient step: the paper's (section 3.2, "256 samples ... are used to update").
 PAPER_BATCH_SIZE = 256
+#: Table 2's discount factor gamma.
+PAPER_GAMMA = 0.99
 #: Largest replay buffer a checkpoint may ask for (transitions): 100 times the paper's 1e6.
 MAX_BUFFER_SIZE = 10**8
 
@@ -261,7 +263,7 @@ class DiscreteSAC(OffPolicyAlgorithm):
         learning_starts: int = 256,
         batch_size: int = PAPER_BATCH_SIZE,
         tau: float = 0.005,
-        gamma: float = 0.99,
+        gamma: float = PAPER_GAMMA,
         train_freq: int | tuple[int, str] | list = 1,
         gradient_steps: int = 1,
         replay_buffer_class: type[ReplayBuffer] | None = None,

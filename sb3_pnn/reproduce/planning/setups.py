@@ -32,8 +32,9 @@ Factors:
   next seconds, and a column can settle on crawling until the time limit. 0.995 looks as far
   ahead in seconds as 0.99 does at 1.0 s.
 * ``spnn_gamma``, ``pnn_gamma``: the discount factor of SPNN's, PNN's planning runs (None:
-  Tables 2-3's 0.99; PNN's n-step targets discount with it). A planning episode lasts 150-400 s
-  at 0.5 s per decision, three to eight times what 0.99 looks ahead.
+  Tables 2-3's 0.99; PNN's n-step targets discount with it); ``pnn_gamma_sine``: PNN's on the
+  sine path (None: ``pnn_gamma``'s). A planning episode lasts 150-400 s at 0.5 s per decision,
+  three to eight times what 0.99 looks ahead.
 * ``batch_size``: samples per gradient step (section 3.2: "256 samples ... are used to
   update"); ``prior_batch_size``: that of the source columns' runs, when it should differ
   (0: the same), as ``prior_updates`` is to ``updates``.
@@ -210,7 +211,7 @@ from rov_envs.physics.params import VEHICLES
 from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from sb3_pnn.common.callbacks import RANKINGS, VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
-from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE
+from sb3_pnn.dsac.dsac import DEFAULT_TARGET_ENTROPY_RATIO, PAPER_BATCH_SIZE, PAPER_GAMMA
 from sb3_pnn.progressive.selective_policy import (
     DEFAULT_PRIOR_KL,
     PAPER_D_TH,
@@ -260,6 +261,7 @@ class TrainingSetup:
     oa_gamma: float | None = None
     spnn_gamma: float | None = None
     pnn_gamma: float | None = None
+    pnn_gamma_sine: float | None = None
     batch_size: int = PAPER_BATCH_SIZE
     prior_batch_size: int = 0
     train_start_noise: bool = False
@@ -338,12 +340,13 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
                     + (" (0: as batch_size)" if name == "prior_batch_size" else "")
                 )
-        for name in ("oa_gamma", "spnn_gamma", "pnn_gamma"):
+        for name in ("oa_gamma", "spnn_gamma", "pnn_gamma", "pnn_gamma_sine"):
             gamma = getattr(self, name)
             if gamma is not None and not (is_finite_number(gamma) and 0.0 < gamma < 1.0):
+                fallback = "pnn_gamma's" if name == "pnn_gamma_sine" else "Tables 2-3's 0.99"
                 raise ValueError(
                     f"{name}={gamma!r} is not allowed: expected a discount factor in (0, 1), "
-                    "or None for Tables 2-3's 0.99"
+                    f"or None for {fallback}"
                 )
         sine_n = self.pnn_n_steps_sine
         if sine_n is not None and (
@@ -628,8 +631,8 @@ class TrainingSetup:
         }
         gamma = self.oa_gamma if prior and column == "oa" else None
         if not prior and agent in ("spnn", "pnn"):
-            gamma = self.spnn_gamma if agent == "spnn" else self.pnn_gamma
-        if gamma is not None:  # named only when set, so earlier runs keep their hash
+            gamma = self.spnn_gamma if agent == "spnn" else self.pnn_gamma_of(path)
+        if gamma is not None and gamma != PAPER_GAMMA:  # named only off Table 2's (hashes)
             kwargs["gamma"] = float(gamma)
         batch_size = self.prior_batch_size if prior and self.prior_batch_size else self.batch_size
         # Named only when it departs from DiscreteSAC's default, so that the specs (and result
@@ -689,6 +692,11 @@ class TrainingSetup:
         """PNN's return length n on planning path ``path`` (``pnn_n_steps_sine`` on the sine
         path when set, else ``pnn_n_steps``)."""
         return self._on_sine_path("pnn_n_steps_sine", self.pnn_n_steps, path)
+
+    def pnn_gamma_of(self, path: str) -> float | None:
+        """PNN's discount on planning path ``path`` (``pnn_gamma_sine`` on the sine path when
+        set, else ``pnn_gamma``; None: Tables 2-3's 0.99)."""
+        return self._on_sine_path("pnn_gamma_sine", self.pnn_gamma, path)
 
     def spnn_gate_of(self, path: str) -> str:
         """The SPNN's gate on planning path ``path`` (``spnn_gate_sine`` on the sine path when
@@ -808,6 +816,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "spnn_d_th_sine",
     "pnn_n_steps_sine",
     "pnn_exploration_epsilon_sine",
+    "pnn_gamma_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -879,6 +888,7 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_gamma": "discount gamma of the avoidance column",
     "spnn_gamma": "discount gamma of SPNN's runs",
     "pnn_gamma": "discount gamma of PNN's runs",
+    "pnn_gamma_sine": "discount gamma of PNN's runs on the sine path",
     "batch_size": "samples per update",
     "prior_batch_size": "samples per update of the source columns",
     "train_start_noise": "training start noise",

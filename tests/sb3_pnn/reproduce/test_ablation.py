@@ -416,6 +416,20 @@ def test_avoidance_column_updates_change_only_its_runs() -> None:
         TrainingSetup(oa_updates="step:0")
 
 
+def test_pnn_discount_per_path() -> None:
+    """``pnn_gamma_sine`` gives PNN's sine runs their own discount; Table 2's 0.99 is never
+    named, so a sine run at 0.99 keeps the hash it had before the factor existed."""
+    base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}
+    changes = (("pnn_gamma", 0.995), ("pnn_gamma_sine", 0.99))
+    plan = {s.run_id: s for s in build_plan(StudyConfig(seeds=1, setup_changes=changes))}
+    differ = {rid for rid in plan if plan[rid].config_hash() != base[rid].config_hash()}
+    assert differ == {"pnn-straight-s0"}
+    assert plan["pnn-straight-s0"].sac_kwargs["gamma"] == 0.995
+    assert TrainingSetup(pnn_gamma=0.995).pnn_gamma_of("sine") == 0.995
+    with pytest.raises(ValueError, match="pnn_gamma_sine=1.5 is not allowed: expected a discount"):
+        TrainingSetup(pnn_gamma_sine=1.5)
+
+
 @pytest.mark.parametrize(
     ("factor", "runs"),
     [
