@@ -399,15 +399,15 @@ def test_several_updates_per_step() -> None:
 
 
 def test_avoidance_column_updates_change_only_its_runs() -> None:
-    """``oa_updates`` gives the avoidance column its own schedule: its run and the SPNN runs
-    that read it change, every other run of the study keeps its spec (and hash)."""
+    """``oa_updates`` gives the avoidance column its own schedule: its run's spec changes,
+    every other run of the study keeps its spec (and hash)."""
     base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}
     changed = StudyConfig(seeds=1, setup_changes=(("oa_updates", "step:1x2"),))
     plan = {s.run_id: s for s in build_plan(changed)}
     assert set(plan) == set(base)
     differ = {rid for rid in plan if plan[rid].config_hash() != base[rid].config_hash()}
-    assert differ == {"prior-oa-s0"}  # the SPNN runs name it by run id: resumed studies and
-    oa = plan["prior-oa-s0"].sac_kwargs  # adoption compare their priors' hashes too
+    assert differ == {"prior-oa-s0"}  # SPNN's runs name it by run id (adoption also compares
+    oa = plan["prior-oa-s0"].sac_kwargs  # a run's priors' specs)
     assert (oa["train_freq"], oa["gradient_steps"]) == ([1, "step"], 2)
     assert base["prior-oa-s0"].sac_kwargs["gradient_steps"] == 1
     assert describe_value("oa_updates", "") == "as the source columns'"
