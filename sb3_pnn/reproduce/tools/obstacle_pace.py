@@ -25,11 +25,11 @@ import numpy as np
 import torch as th
 
 from rov_envs.physics.thrusters import ACTION_NAMES
-from sb3_pnn.baselines import make_baseline
+from sb3_pnn.baselines import BASELINE_NAMES, make_baseline
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation import DEFAULT_START_NOISE
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH
-from sb3_pnn.reproduce.planning.plan import PRIOR_ENVS
+from sb3_pnn.reproduce.planning.plan import AGENTS, PRIOR_ENVS
 from sb3_pnn.reproduce.tools.replay import (
     ended,
     run_env_kwargs,
@@ -105,6 +105,12 @@ def main(argv: list[str] | None = None) -> int:
         runs = [(s, args.study / "runs" / f"prior-{args.agent}-s{s}") for s in seeds]
     else:
         runs = run_folders(args.study, args.agent, args.path, args.seeds)
+    if not runs:
+        known = [*AGENTS, *BASELINE_NAMES, *PRIOR_ENVS]
+        parser.error(
+            f"{args.study / 'runs'} holds no run of --agent {args.agent!r} on the {args.path} "
+            f"path: expected a study folder and one of {known}"
+        )
     print(
         "| seed | endings | decisions within d_th | Go straight there | speed there "
         "| decisions beyond | Go straight there | speed there |\n|---|---|---|---|---|---|---|---|"

@@ -53,3 +53,8 @@ def test_a_pid_run_is_replayed_and_a_column_cannot_be_drawn(tmp_path, capsys) ->
     assert "--drawn replays a planning task; --agent oa is a source column" in (
         capsys.readouterr().err
     )
+    with pytest.raises(SystemExit):
+        main([str(tmp_path), "--agent", "spn"])
+    assert "holds no run of --agent 'spn' on the straight path: expected a study" in (
+        capsys.readouterr().err
+    )
