@@ -15,10 +15,8 @@ Usage: python -m sb3_pnn.reproduce.tools.obstacle_pace STUDY --agent spnn --path
 
 from __future__ import annotations
 
-import argparse
 import json
 from collections import Counter
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
@@ -38,15 +36,6 @@ from sb3_pnn.reproduce.tools.replay import (
     task_id,
     task_parser,
 )
-
-
-def _column_run(parser: argparse.ArgumentParser, run: Path) -> tuple[str, dict]:
-    """A source column's own task and the env keywords of its evaluation."""
-    eval_file = run / "eval.json"
-    if not eval_file.is_file():
-        parser.error(f"{eval_file} does not exist: expected a finished run of a study")
-    own = json.loads(eval_file.read_text())["own"]
-    return own["env_id"], dict(own["env_kwargs"])
 
 
 def pace(policy, env: gym.Env, episodes: int, d_th: float) -> dict:
@@ -116,8 +105,8 @@ def main(argv: list[str] | None = None) -> int:
         "| decisions beyond | Go straight there | speed there |\n|---|---|---|---|---|---|---|---|"
     )
     for seed, run in runs:
-        if column:
-            env_id, kwargs = _column_run(parser, run)
+        if column:  # a source column replays its own task
+            env_id, kwargs = PRIOR_ENVS[args.agent], run_env_kwargs(parser, run, "own")
         else:
             env_id, kwargs = task_id(parser, args), run_env_kwargs(parser, run)
         if args.drawn:

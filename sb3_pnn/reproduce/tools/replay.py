@@ -52,12 +52,16 @@ def run_folders(
     return [(seed, study / "runs" / f"{agent}-{path}-s{seed}") for seed in seeds]
 
 
-def run_env_kwargs(parser: argparse.ArgumentParser, run: Path) -> dict[str, Any]:
-    """The env keywords of the run's evaluation; a run without one stops the command."""
+def run_env_kwargs(
+    parser: argparse.ArgumentParser, run: Path, task: str = "original"
+) -> dict[str, Any]:
+    """The env keywords of the run's evaluation on ``task`` (a learner's or baseline's
+    ``"original"`` planning task, a source column's ``"own"``); a run without one stops the
+    command."""
     eval_file = run / "eval.json"
     if not eval_file.is_file():
         parser.error(f"{eval_file} does not exist: expected a finished run of a study")
-    return dict(json.loads(eval_file.read_text())["original"]["env_kwargs"])
+    return dict(json.loads(eval_file.read_text())[task]["env_kwargs"])
 
 
 def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
