@@ -159,6 +159,11 @@ Factors:
   tasks' d_L). The planning tasks it is composed into keep the vehicle within 30 m (straight)
   or 15 m (sine) of their route (section 4.2.1); an avoidance column trained within 30 m may
   go round a whole field of obstacles where the sine task's corridor allows no such detour.
+* ``oa_time_limit``: the time limit (simulated s) of the obstacle-avoidance source task's
+  training and validation episodes (None: the task's own, twice its 60 m at 1 m/s = 120 s).
+  A column that may take 120 s can cross its field at half the speed of "Go straight"; a
+  shorter limit keeps only the columns (and checks) that pass obstacles at pace, which is the
+  pace SPNN's new column inherits within d_th.
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
   so that it reads there what it was trained on, in the SPNN's planning runs; no other run
@@ -309,6 +314,7 @@ class TrainingSetup:
     heading_rule: str = "path"
     oa_layout: str = "avoidance"
     oa_corridor: float | None = None
+    oa_time_limit: float | None = None
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     planning_layout: str = "fixed"
@@ -483,6 +489,12 @@ class TrainingSetup:
                 f"oa_corridor={corridor!r} is not allowed: expected a half-width in [1, 100] (m), "
                 "or None for the task's own"
             )
+        limit = self.oa_time_limit
+        if limit is not None and not (is_finite_number(limit) and 10 <= limit <= 1000):
+            raise ValueError(
+                f"oa_time_limit={limit!r} is not allowed: expected simulated seconds in "
+                "[10, 1000], or None for the task's own (120 s)"
+            )
         penalty = self.planning_obstacle_penalty
         if isinstance(penalty, bool) or not is_finite_number(penalty) or penalty < 0:
             raise ValueError(
@@ -573,8 +585,11 @@ class TrainingSetup:
             from rov_envs.sim.tasks import task_of_env
 
             kwargs.update(self.source_env_kwargs(env_id))
-            if self.oa_corridor is not None and task_of_env(env_id).name == "ObstacleAvoidance":
-                kwargs["corridor"] = float(self.oa_corridor)
+            if task_of_env(env_id).name == "ObstacleAvoidance":
+                if self.oa_corridor is not None:
+                    kwargs["corridor"] = float(self.oa_corridor)
+                if self.oa_time_limit is not None:
+                    kwargs["max_episode_seconds"] = float(self.oa_time_limit)
         return kwargs
 
     def _start_spread(self, env_id: str | None) -> float | None:
@@ -938,6 +953,7 @@ FACTOR_LABELS: dict[str, str] = {
     "heading_rule": "heading rule of the planning tasks reads",
     "oa_layout": "obstacles of the avoidance task",
     "oa_corridor": "corridor half-width of the avoidance task (m)",
+    "oa_time_limit": "time limit of the avoidance task's training episodes (s)",
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
     "planning_layout": "obstacles the planning agents train on",
@@ -969,6 +985,8 @@ def describe_value(name: str, value: Any) -> str:
         return "every sample"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
+    if name == "oa_time_limit" and value is None:
+        return "the task's (120 s)"
     if name in SINE_PATH_FACTORS and value is None:
         return "as on the straight path"
     if name == "pnn_exploration_epsilon" and value is None:

@@ -10,6 +10,8 @@
 * :func:`success_interval` - a success rate pooled over runs with an interval that also covers
   the spread between seeds (episodes of one run are not independent draws: a run that never
   learned fails all of its 50 evaluation episodes).
+* :func:`difference_ci` - the difference of two set-ups' mean per-run values with a Welch
+  interval: training runs, not episodes, are the independent draws when two set-ups are compared.
 """
 
 from __future__ import annotations
@@ -34,6 +36,28 @@ def mean_ci(values: Sequence[float], level: float = 0.95) -> tuple[float, float,
         return mean, mean, mean
     half = float(_st.t.ppf(0.5 + level / 2, arr.size - 1) * arr.std(ddof=1) / math.sqrt(arr.size))
     return mean, mean - half, mean + half
+
+
+def difference_ci(
+    a: Sequence[float], b: Sequence[float], level: float = 0.95
+) -> tuple[float, float, float]:
+    """(mean(b) - mean(a), low, high) with a two-sided Welch-Satterthwaite t interval; each value
+    one training run's rate. The bounds are NaN unless both sides have two runs or more (one run
+    says nothing about how much runs of the same set-up differ)."""
+    xa = np.asarray(a, dtype=np.float64)
+    xb = np.asarray(b, dtype=np.float64)
+    if xa.size == 0 or xb.size == 0:
+        return math.nan, math.nan, math.nan
+    diff = float(xb.mean() - xa.mean())
+    if xa.size < 2 or xb.size < 2:
+        return diff, math.nan, math.nan
+    va, vb = xa.var(ddof=1) / xa.size, xb.var(ddof=1) / xb.size
+    se = math.sqrt(va + vb)
+    if se == 0.0:
+        return diff, diff, diff
+    dof = (va + vb) ** 2 / (va**2 / (xa.size - 1) + vb**2 / (xb.size - 1))
+    half = float(_st.t.ppf(0.5 + level / 2, dof)) * se
+    return diff, diff - half, diff + half
 
 
 def curve_band(curves: Sequence[Sequence[float]], level: float = 0.95) -> np.ndarray:

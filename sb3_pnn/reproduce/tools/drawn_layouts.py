@@ -14,13 +14,20 @@ keywords otherwise, and prints each run's success rate and how its episodes ende
 bounded at abs(g) / d_L >= C (``none``: eq. 15's unbounded gate), whatever they trained with; the
 bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
 
+``--against BASE`` replays the same agent, path and seeds of a second study and prints the
+difference of the two mean success rates with a 95 % Welch interval over runs (each training
+run one draw: runs of one set-up differ by 15-25 points among drawn obstacles, so a difference
+of a few points between five-seed studies is not evidence of an effect).
+
 Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path straight
-    [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9]
+    [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9] [--against BASE_STUDY]
 """
 
 from __future__ import annotations
 
 import argparse
+import math
+from pathlib import Path
 
 import numpy as np
 import torch as th
@@ -28,6 +35,7 @@ import torch as th
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
 from sb3_pnn.progressive.gates import checked_corridor
+from sb3_pnn.reproduce.reporting.stats import difference_ci
 from sb3_pnn.reproduce.tools.replay import (
     run_env_kwargs,
     run_folders,
@@ -61,6 +69,40 @@ def bound_gate(parser: argparse.ArgumentParser, model, corridor: float | str, ru
     gate.corridor = None if corridor == "none" else float(corridor)
 
 
+def drawn_success(
+    parser: argparse.ArgumentParser, args: argparse.Namespace, study: Path, env_id: str
+) -> list[tuple[int, float, str]]:
+    """(seed, success rate, how the episodes ended) of each of ``study``'s runs of the agent
+    and path, replayed among drawn obstacles on the validation seeds."""
+    out = []
+    for seed, run in run_folders(study, args.agent, args.path, args.seeds):
+        env_kwargs = dict(run_env_kwargs(parser, run), layout=LAYOUT)
+        model = run_model(parser, run)
+        if args.gate_corridor is not None:
+            bound_gate(parser, model, args.gate_corridor, run)
+        policy = args.agent if model is None else model
+        result = evaluate_policy_on_task(
+            policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
+        )
+        ends = ", ".join(f"{k} {v}" for k, v in sorted(result.end_reasons.items()))
+        out.append((seed, result.success_rate, ends))
+    return out
+
+
+def print_difference(base: list[float], rates: list[float]) -> None:
+    """The difference of the mean success rates (points) with its 95 % Welch interval."""
+    diff, low, high = difference_ci(base, rates)
+    spread = [float(np.std(x, ddof=1)) for x in (base, rates) if len(x) > 1]
+    interval = (
+        "no interval (one run per side)"
+        if math.isnan(low)
+        else f"95 % interval [{100 * low:+.1f}, {100 * high:+.1f}] (Welch, runs as the unit)"
+    )
+    print(f"difference {100 * diff:+.1f} points, {interval}")
+    if spread:
+        print(f"run-to-run standard deviation {100 * float(np.mean(spread)):.1f} points")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = task_parser(__doc__, episodes=50)
     parser.add_argument(
@@ -74,29 +116,39 @@ def main(argv: list[str] | None = None) -> int:
         help="SPNN runs: replay with the gate bounded at abs(g) / d_L >= C (0 < C <= 1), or "
         "'none' for eq. 15's unbounded gate (default: as trained)",
     )
+    parser.add_argument(
+        "--against",
+        type=Path,
+        metavar="BASE",
+        help="a second study: its runs of the same agent, path and seeds replayed alike, and "
+        "the difference of the means printed with a 95 %% interval",
+    )
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)
-    rates = []
     bound = "" if args.gate_corridor is None else f", gate bound {args.gate_corridor}"
     print(
         f"{args.agent} on {env_id} with layout={LAYOUT!r}, {args.episodes} validation episodes"
         + bound
     )
-    print("| seed | success | episodes ended by |\n|---|---|---|")
-    for seed, run in run_folders(args.study, args.agent, args.path, args.seeds):
-        env_kwargs = dict(run_env_kwargs(parser, run), layout=LAYOUT)
-        model = run_model(parser, run)
-        if args.gate_corridor is not None:
-            bound_gate(parser, model, args.gate_corridor, run)
-        policy = args.agent if model is None else model
-        result = evaluate_policy_on_task(
-            policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
-        )
-        rates.append(result.success_rate)
-        ends = ", ".join(f"{k} {v}" for k, v in sorted(result.end_reasons.items()))
-        print(f"| {seed} | {100 * result.success_rate:.0f} % | {ends} |")
-    print(f"mean success {100 * float(np.mean(rates)):.1f} % over {len(rates)} run(s)")
+    runs = drawn_success(parser, args, args.study, env_id)
+    rates = [rate for _, rate, _ in runs]
+    if args.against is None:
+        print("| seed | success | episodes ended by |\n|---|---|---|")
+        for seed, rate, ends in runs:
+            print(f"| {seed} | {100 * rate:.0f} % | {ends} |")
+        print(f"mean success {100 * float(np.mean(rates)):.1f} % over {len(rates)} run(s)")
+        return 0
+    base = drawn_success(parser, args, args.against, env_id)
+    print(f"| seed | {args.against} | {args.study} |\n|---|---|---|")
+    for (seed, b_rate, b_ends), (_, rate, ends) in zip(base, runs, strict=True):
+        print(f"| {seed} | {100 * b_rate:.0f} % ({b_ends}) | {100 * rate:.0f} % ({ends}) |")
+    b_rates = [rate for _, rate, _ in base]
+    print(
+        f"mean success {100 * float(np.mean(b_rates)):.1f} % against "
+        f"{100 * float(np.mean(rates)):.1f} % over {len(rates)} run(s) each"
+    )
+    print_difference(b_rates, rates)
     return 0
 
 

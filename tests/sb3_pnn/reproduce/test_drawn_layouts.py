@@ -35,6 +35,20 @@ def test_a_run_is_replayed_among_drawn_obstacles_on_validation_seeds(tmp_path, c
     assert fixed.success_rate != drawn.success_rate  # so the line above tells the layouts apart
 
 
+def test_against_a_second_study_prints_the_difference_of_the_means(tmp_path, capsys):
+    """``--against``: both studies' runs replayed on the same drawn fields; the same policy
+    and env keywords in both give a difference of exactly 0, and one run per side gives no
+    interval (it cannot tell how much runs of one set-up differ)."""
+    study, base = tmp_path / "arm", tmp_path / "base"
+    for folder in (study, base):
+        _pid_run(folder, {"control_period": 0.5})
+    argv = [str(study), "--agent", "adaptive_pid", "--episodes", "2", "--against", str(base)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert f"| seed | {base} | {study} |" in out
+    assert "difference +0.0 points, no interval (one run per side)" in out
+
+
 def test_a_missing_run_or_model_stops_with_a_message(tmp_path, capsys):
     """(The task arguments are the replay tools' shared parser, tested with action_reversals.)"""
     with pytest.raises(SystemExit) as stop:

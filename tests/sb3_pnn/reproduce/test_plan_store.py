@@ -151,29 +151,42 @@ def test_pnn_goal_obs_off_drops_the_goal_part_for_pnn_alone() -> None:
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
 
 
-def test_oa_corridor_narrows_only_the_avoidance_columns_training() -> None:
-    """oa_corridor=15: the obstacle-avoidance column trains (and validates) within 15 m of its
-    line, is evaluated on its own task as before, and every other run's environment is
+@pytest.mark.parametrize(
+    ("factor", "value", "keyword", "default"),
+    [
+        ("oa_corridor", 15.0, "corridor", "the task's (30 m)"),
+        ("oa_time_limit", 90.0, "max_episode_seconds", "the task's (120 s)"),
+    ],
+)
+def test_avoidance_task_factors_change_only_the_avoidance_columns_training(
+    factor, value, keyword, default
+) -> None:
+    """oa_corridor=15 (episodes end 15 m from the line) and oa_time_limit=90 (90 s episodes,
+    the task's 120 s otherwise): the obstacle-avoidance column trains and validates with that
+    env keyword, is evaluated on its own task as before, and every other run's environment is
     unchanged; the SPNN runs that read that column get a new hash through their prior's."""
     plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
-    changed = build_plan(
-        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_corridor", 15.0),))
-    )
+    changed = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),)))
     for spec in changed:
         if spec.run_id == "prior-oa-s0":
-            assert spec.env_kwargs["corridor"] == 15.0
-            assert "corridor" not in plain[spec.run_id].env_kwargs
+            assert spec.env_kwargs[keyword] == value
+            assert keyword not in plain[spec.run_id].env_kwargs
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
             assert spec.config_hash() != plain[spec.run_id].config_hash()
         else:
             assert spec.env_kwargs == plain[spec.run_id].env_kwargs
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
+    assert describe_value(factor, None) == default  # as the report names the task's own
 
 
-@pytest.mark.parametrize("value", [0.5, 500.0, float("nan")])
-def test_bad_oa_corridor_is_refused(value) -> None:
-    with pytest.raises(ValueError, match="oa_corridor"):
-        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_corridor", value),))
+@pytest.mark.parametrize(
+    ("factor", "value"),
+    [("oa_corridor", v) for v in (0.5, 500.0, float("nan"))]
+    + [("oa_time_limit", v) for v in (5.0, 2000.0, float("nan"))],
+)
+def test_bad_avoidance_task_factor_is_refused(factor, value) -> None:
+    with pytest.raises(ValueError, match=f"{factor}={value!r} is not allowed"):
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
 
 
 def _spnn_gates(changes: tuple = ()) -> tuple[dict, dict]:

@@ -11,6 +11,7 @@ from sb3_pnn.evaluation import wilson_interval
 from sb3_pnn.reproduce.reporting.report import _below_half, _compare
 from sb3_pnn.reproduce.reporting.stats import (
     curve_band,
+    difference_ci,
     episodes_to_first_success,
     episodes_to_threshold,
     mean_ci,
@@ -27,6 +28,23 @@ def test_mean_ci_matches_student_t() -> None:
     assert mean - lo == pytest.approx(hi - mean)
     assert mean_ci([7.0]) == (7.0, 7.0, 7.0)
     assert all(math.isnan(v) for v in mean_ci([]))
+
+
+def test_difference_ci_is_welchs_interval() -> None:
+    """Two equal-sized groups with equal variances: Welch's dof is 2(n-1) and the half-width
+    t_{0.975, 8} * sqrt(2 s^2 / n) (s^2 = 2.5, n = 5: 2.306 * 1 = 2.306)."""
+    diff, lo, hi = difference_ci([1.0, 2.0, 3.0, 4.0, 5.0], [3.0, 4.0, 5.0, 6.0, 7.0])
+    assert diff == 2.0
+    assert hi - diff == pytest.approx(2.306, abs=1e-3)
+    assert diff - lo == pytest.approx(hi - diff)
+    # unequal spreads (one side constant): the interval comes from the other side alone
+    diff, lo, hi = difference_ci([0.5, 0.5, 0.5], [0.0, 1.0, 0.2, 0.8])
+    assert diff == pytest.approx(0.0)
+    assert hi - diff == pytest.approx(mean_ci([0.0, 1.0, 0.2, 0.8])[2] - 0.5)
+    assert difference_ci([0.4], [0.6, 0.8])[0] == pytest.approx(0.3)
+    assert all(math.isnan(v) for v in difference_ci([0.4], [0.6, 0.8])[1:])
+    assert difference_ci([0.5, 0.5], [0.7, 0.7]) == pytest.approx((0.2, 0.2, 0.2))
+    assert all(math.isnan(v) for v in difference_ci([], [0.6]))
 
 
 def test_curve_band_and_smooth() -> None:
