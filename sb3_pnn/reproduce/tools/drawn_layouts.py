@@ -15,9 +15,10 @@ bounded at abs(g) / d_L >= C (``none``: eq. 15's unbounded gate), whatever they 
 bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
 
 ``--against BASE`` replays the same agent, path and seeds of a second study and prints the
-difference of the two mean success rates with a 95 % Welch interval over runs (each training
-run one draw: runs of one set-up differ by 15-25 points among drawn obstacles, so a difference
-of a few points between five-seed studies is not evidence of an effect).
+difference of the two mean success rates with a 95 % Welch interval over runs: each training
+run is one draw, and runs of one set-up can differ by tens of points among drawn obstacles, so a
+difference of a few points between five-seed studies is no evidence of an effect (docs/ablation
+section 30).
 
 Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path straight
     [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9] [--against BASE_STUDY]
