@@ -349,7 +349,9 @@ class TrainingSetup:
         for name in ("oa_gamma", "spnn_gamma", "pnn_gamma", "pnn_gamma_sine"):
             gamma = getattr(self, name)
             if gamma is not None and not (is_finite_number(gamma) and 0.0 < gamma < 1.0):
-                fallback = "pnn_gamma's" if name == "pnn_gamma_sine" else "Tables 2-3's 0.99"
+                fallback = (
+                    "pnn_gamma's" if name == "pnn_gamma_sine" else f"Tables 2-3's {PAPER_GAMMA}"
+                )
                 raise ValueError(
                     f"{name}={gamma!r} is not allowed: expected a discount factor in (0, 1), "
                     f"or None for {fallback}"
@@ -976,7 +978,7 @@ def describe_value(name: str, value: Any) -> str:
     if name == "oa_updates" and not value:
         return "as the source columns'"
     if name in ("oa_gamma", "spnn_gamma", "pnn_gamma") and value is None:
-        return "Tables 2-3's 0.99"
+        return f"Tables 2-3's {PAPER_GAMMA}"
     if name == "prior_batch_size" and not value:
         return "as the samples per update"
     if name in ("pf_start_spread", "planning_start_spread") and value is None:

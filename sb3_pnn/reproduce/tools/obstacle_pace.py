@@ -15,7 +15,6 @@ Usage: python -m sb3_pnn.reproduce.tools.obstacle_pace STUDY --agent spnn --path
 
 from __future__ import annotations
 
-import json
 from collections import Counter
 
 import gymnasium as gym
@@ -23,7 +22,7 @@ import numpy as np
 import torch as th
 
 from rov_envs.physics.thrusters import ACTION_NAMES
-from sb3_pnn.baselines import BASELINE_NAMES, make_baseline
+from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation import DEFAULT_START_NOISE
 from sb3_pnn.progressive.selective_policy import PAPER_D_TH
@@ -32,7 +31,7 @@ from sb3_pnn.reproduce.tools.replay import (
     ended,
     run_env_kwargs,
     run_folders,
-    run_model,
+    run_policy,
     task_id,
     task_parser,
 )
@@ -113,9 +112,7 @@ def main(argv: list[str] | None = None) -> int:
             kwargs["layout"] = DRAWN_VALIDATION_LAYOUT
         kwargs.setdefault("start_noise", DEFAULT_START_NOISE)
         env = gym.make(env_id, **kwargs)
-        policy = run_model(parser, run)
-        if policy is None:  # a PID baseline's run
-            policy = make_baseline(json.loads((run / "manifest.json").read_text())["agent"], env)
+        policy = run_policy(parser, run, env)
         print(row(str(seed), pace(policy, env, args.episodes, PAPER_D_TH)))
     return 0
 

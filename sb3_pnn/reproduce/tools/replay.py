@@ -76,16 +76,25 @@ def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
     return DiscreteSAC.load(run / "model.zip", device="cpu")
 
 
+def run_baseline(run: Path, env: gym.Env) -> Any:
+    """The PID baseline a baseline's run evaluated (its manifest names it), bound to ``env``."""
+    return make_baseline(json.loads((run / "manifest.json").read_text())["agent"], env)
+
+
+def run_policy(parser: argparse.ArgumentParser, run: Path, env: gym.Env) -> Any:
+    """The run's policy: its kept model, or the PID baseline the run evaluated, bound to
+    ``env``; a missing model stops the command with a message."""
+    model = run_model(parser, run)
+    return run_baseline(run, env) if model is None else model
+
+
 def load_run(parser: argparse.ArgumentParser, run: Path, env_id: str) -> tuple[Any, gym.Env]:
     """The run's policy (its model, or the PID baseline the run evaluated) and ``env_id`` made
     with the env keywords of the run's evaluation; a missing run stops the command with a
-    message."""
+    message (the model's first)."""
     model = run_model(parser, run)
     env = gym.make(env_id, **run_env_kwargs(parser, run))
-    if model is None:
-        baseline = json.loads((run / "manifest.json").read_text())["agent"]
-        return make_baseline(baseline, env), env
-    return model, env
+    return (run_baseline(run, env) if model is None else model), env
 
 
 def ended(ends: Counter) -> str:
