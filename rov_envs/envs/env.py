@@ -61,7 +61,7 @@ class RovEnv(gym.Env):
     rev/min): 0 Turn left 1, 1 Turn left 2, 2 Go straight, 3 Turn right 1, 4 Turn right 2.
     With ``continuous=True``: ``Box(-1, 1, (2,))`` = (surge, yaw), mapped onto the same
     horizontal thrusters by ``rov_envs.physics.thrusters.continuous_to_speeds`` (+yaw turns
-    left; values are clipped to [-1, 1]). One step lasts ``control_period`` seconds (default 0.5 s).
+    left; values are clipped to [-1, 1]). One step lasts ``control_period`` seconds (default 1.0 s).
 
     ## Observation Space
     ``Dict`` with

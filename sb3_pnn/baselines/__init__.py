@@ -31,7 +31,7 @@ def make_baseline(name: str, env: Any = None, **overrides: Any) -> PIDController
         name: one of :data:`BASELINE_NAMES`.
         env: optional rov_envs env (single or batched, wrapped or not) or its
             ``rov_envs.sim.config.EnvConfig``: control period, action type and sonar geometry are
-            read from it. Without it the env defaults are assumed (0.5 s, Discrete(5), 25 m,
+            read from it. Without it the env defaults are assumed (1.0 s, Discrete(5), 25 m,
             pi span).
         **overrides: constructor arguments (gains, thresholds, ...).
     """

@@ -101,7 +101,7 @@ class AdaptivePIDController(PIDController):
         kd: float = 0.6,
         dt: float = DEFAULT_DT,
         continuous: bool = False,
-        turn_thresholds: tuple[float, float] = VEHICLE_GAINS[DEFAULT_VEHICLE]["turn_thresholds"],
+        turn_thresholds: tuple[float, float] | None = None,
         integral_limit: float = 0.5,
         yaw_rate_full: float = VEHICLE_GAINS[DEFAULT_VEHICLE]["yaw_rate_full"],
         trigger_distance: float = VEHICLE_GAINS[DEFAULT_VEHICLE]["trigger_distance"],
@@ -135,6 +135,11 @@ class AdaptivePIDController(PIDController):
             raise ValueError(
                 f"sonar_span={sonar_span!r} is not allowed: expected a float in (0, 2 pi]"
             )
+
+    @classmethod
+    def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
+        """The avoider's coarser thresholds hold at every control period (0.2-1.0 s)."""
+        return VEHICLE_GAINS[vehicle]["turn_thresholds"]
 
     @classmethod
     def env_settings(cls, env: Any) -> dict[str, Any]:

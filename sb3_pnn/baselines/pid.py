@@ -35,6 +35,16 @@ about 1.0 / 1.4 rad/s: thresholds ``(0.4, 1.5)`` rad/s, ``yaw_rate_full = 0.7`` 
 PathFollowingStraight-v0 / PathFollowingSine-v0 with 1 m / 5 deg start noise, see the module
 tests and ``python -m sb3_pnn.evaluate --model pid``): ``kp = 1.5`` /s, ``ki = 0.05`` /s^2,
 ``kd = 0.6`` (s/s), ``integral_limit = 0.5`` rad s.
+
+The thresholds above hold up to a 0.5 s control period (:data:`FINE_PERIOD`). At longer periods
+one step of Turn 1 swings UUV Simulator's BlueROV2 past the narrow go-straight band, and the
+controller chatters between Turn left 1 and Turn right 1 without going straight: on
+PathFollowingStraight-v0 / PathFollowingSine-v0 (60 episodes from seed 2000, 1 m / 5 deg start
+noise) 4 / 60 at 0.6 s and 0-1 / 60 from 0.75 s on reach the end in time. Longer periods
+therefore take ``(0.15, 0.45)`` rad/s (:data:`LONG_PERIOD_TURN_THRESHOLDS`): 60 / 60 on both
+tasks at 0.6-1.0 s, mean |g| 0.14 / 0.18 m at 1.0 s (seed 2000; from seed 1000: (0.1, 0.3)
+passes the line on 5 / 60 at 1.0 s, (0.15, 0.45) on 60 / 60). Wu's set keeps its thresholds
+(60 / 60 at 1.0 s on both tasks, mean |g| 0.6 m).
 """
 
 from __future__ import annotations
@@ -48,7 +58,7 @@ from sb3_pnn.common.checks import check_nonnegative
 
 #: The environments' default control period (s): ``rov_envs.sim.config.CONTROL_PERIOD`` (a test
 #: checks they agree).
-DEFAULT_DT = 0.5
+DEFAULT_DT = 1.0
 #: Table 1 action indices.
 TURN_LEFT_1, TURN_LEFT_2, GO_STRAIGHT, TURN_RIGHT_1, TURN_RIGHT_2 = 0, 1, 2, 3, 4
 #: The environments' default vehicle (``rov_envs.physics.params.DEFAULT_VEHICLE``).
@@ -58,6 +68,19 @@ VEHICLE_GAINS: dict[str, dict[str, Any]] = {
     "uuv_simulator": {"turn_thresholds": (0.05, 0.15), "yaw_rate_full": 0.3},
     "wu2018": {"turn_thresholds": (0.4, 1.5), "yaw_rate_full": 0.7},
 }
+#: The longest control period (s) at which :data:`VEHICLE_GAINS`' turn thresholds hold.
+FINE_PERIOD = 0.5
+#: Turn thresholds for control periods longer than :data:`FINE_PERIOD`, by vehicle (module
+#: docstring; a vehicle not listed keeps its own).
+LONG_PERIOD_TURN_THRESHOLDS: dict[str, tuple[float, float]] = {"uuv_simulator": (0.15, 0.45)}
+
+
+def default_turn_thresholds(vehicle: str, dt: float) -> tuple[float, float]:
+    """The plain PID's turn thresholds (rad/s) for ``vehicle`` at a control period of ``dt`` s."""
+    if dt > FINE_PERIOD and vehicle in LONG_PERIOD_TURN_THRESHOLDS:
+        return LONG_PERIOD_TURN_THRESHOLDS[vehicle]
+    return VEHICLE_GAINS[vehicle]["turn_thresholds"]
+
 
 # memory columns shared by every controller
 _M_INTEGRAL = 0
@@ -78,7 +101,7 @@ class PIDController:
         kp, ki, kd: PID gains on ``a_c`` (rad): proportional (1/s), integral (1/s^2),
             derivative (-).
         dt: control period (s) used by the integral and derivative terms (default: the envs'
-            default, 0.5 s).
+            default, 1.0 s).
         continuous: emit (surge, yaw) actions for ``continuous=True`` envs instead of Discrete(5).
         turn_thresholds: ``(t1, t2)`` in rad/s: the |u| at which Turn 1 and Turn 2 are chosen
             (default: the default vehicle's, :data:`VEHICLE_GAINS`).
@@ -103,7 +126,7 @@ class PIDController:
         kd: float = 0.6,
         dt: float = DEFAULT_DT,
         continuous: bool = False,
-        turn_thresholds: tuple[float, float] = VEHICLE_GAINS[DEFAULT_VEHICLE]["turn_thresholds"],
+        turn_thresholds: tuple[float, float] | None = None,
         integral_limit: float = 0.5,
         yaw_rate_full: float = VEHICLE_GAINS[DEFAULT_VEHICLE]["yaw_rate_full"],
     ) -> None:
@@ -111,6 +134,8 @@ class PIDController:
         self.ki = check_nonnegative("ki", ki)
         self.kd = check_nonnegative("kd", kd)
         self.dt = check_nonnegative("dt", dt, allow_zero=False)
+        if turn_thresholds is None:  # the default vehicle's, for this control period
+            turn_thresholds = self.vehicle_turn_thresholds(DEFAULT_VEHICLE, self.dt)
         if not isinstance(continuous, (bool, np.bool_)):
             raise ValueError(f"continuous={continuous!r} is not allowed: expected True or False")
         self.continuous = bool(continuous)
@@ -162,7 +187,13 @@ class PIDController:
             "dt": float(config.dt),
             "continuous": bool(config.continuous),
             **cls.vehicle_gains[vehicle],
+            "turn_thresholds": cls.vehicle_turn_thresholds(vehicle, float(config.dt)),
         }
+
+    @classmethod
+    def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
+        """This controller's turn thresholds for ``vehicle`` at a ``dt`` s control period."""
+        return default_turn_thresholds(vehicle, dt)
 
     @classmethod
     def for_env(cls, env: Any, **overrides: Any) -> PIDController:

@@ -26,15 +26,15 @@ Factors:
   is the hardest source task, and only SPNN reads its column, so its schedule can change
   without retraining the path followers, PNN or SAC-Multi.
 * ``oa_gamma``: the discount factor of the obstacle-avoidance column's runs (None: Tables 2-3's
-  0.99, every run's). The discount is per decision, so at a 0.5 s control period 0.99 looks
-  about 50 s ahead (1 / (1 - gamma) steps) while an avoidance episode lasts up to 120 s: from
-  its start the +200 of arriving is worth less than a tenth of a collision's -200 met in the
-  next seconds, and a column can settle on crawling until the time limit. 0.995 looks as far
-  ahead in seconds as 0.99 does at 1.0 s.
+  0.99, every run's). The discount is per decision, so 0.99 looks about 1 / (1 - gamma) =
+  100 steps ahead: 100 s at the 1.0 s control period (50 s at 0.5 s, where an avoidance
+  episode lasts up to 120 s): from its start the +200 of arriving is then worth less than a
+  tenth of a collision's -200 met in the next seconds, and a column can settle on crawling
+  until the time limit. At 0.5 s, 0.995 looks as far ahead in seconds as 0.99 does at 1.0 s.
 * ``spnn_gamma``, ``pnn_gamma``: the discount factor of SPNN's, PNN's planning runs (None:
   Tables 2-3's 0.99; PNN's n-step targets discount with it); ``pnn_gamma_sine``: PNN's on the
-  sine path (None: ``pnn_gamma``'s). A planning episode lasts 150-400 s at 0.5 s per decision,
-  three to eight times what 0.99 looks ahead.
+  sine path (None: ``pnn_gamma``'s). A planning episode lasts 150-400 s: 1.5 to 4 times what
+  0.99 looks ahead at 1.0 s per decision, three to eight times at 0.5 s.
 * ``batch_size``: samples per gradient step (section 3.2: "256 samples ... are used to
   update"); ``prior_batch_size``: that of the source columns' runs, when it should differ
   (0: the same), as ``prior_updates`` is to ``updates``.
@@ -861,9 +861,9 @@ PAPER = TrainingSetup()
 
 #: The study's default set-up (each departure from PAPER is measured in docs/ablation/).
 OURS = TrainingSetup(
-    control_period=0.5,
-    updates="step:4",
-    prior_updates="step:1",
+    control_period=1.0,
+    updates="step:2",
+    prior_updates="step:1x2",
     train_start_noise=True,
     pf_start_spread=5.0,
     motion_obs=True,

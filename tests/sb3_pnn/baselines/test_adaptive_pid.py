@@ -124,8 +124,9 @@ def test_usable_with_sb3_evaluate_policy_on_the_batched_vec_env():
         returns, lengths = evaluate_policy(
             ctrl, venv, n_eval_episodes=2, return_episode_rewards=True
         )
-    # success: about one reward point per 0.5 s step along the line, no -200 failure reward
-    assert all(r > 300.0 for r in returns) and all(350 < n < 800 for n in lengths)
+    # success: the +200 for arriving and no -200 failure, well before the 400-step time limit
+    # (400 s at 1.0 s per step; the 200 m line at about 0.8 m/s takes some 260 steps)
+    assert all(r > 200.0 for r in returns) and all(200 < n < 350 for n in lengths)
 
 
 def test_adaptive_pid_with_continuous_actions():

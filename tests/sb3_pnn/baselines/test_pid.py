@@ -84,12 +84,13 @@ def test_for_env_reads_the_control_period_and_action_type():
 
 @pytest.mark.parametrize("vehicle", ["uuv_simulator", "wu2018"])
 def test_for_env_picks_the_vehicles_gains(vehicle):
-    env = gym.make("rov_envs/PathFollowingSine-v0", vehicle=vehicle)
+    # at 0.5 s, the longest period the table's turn thresholds hold for
+    env = gym.make("rov_envs/PathFollowingSine-v0", vehicle=vehicle, control_period=0.5)
     ctrl = PIDController.for_env(env)
     for name, value in VEHICLE_GAINS[vehicle].items():
         assert getattr(ctrl, name) == value
     assert make_baseline("pid", env=env, turn_thresholds=(1.0, 2.0)).turn_thresholds == (1.0, 2.0)
-    default = PIDController()  # the default vehicle's gains
+    default = PIDController(dt=0.5)  # the default vehicle's gains
     assert default.turn_thresholds == VEHICLE_GAINS["uuv_simulator"]["turn_thresholds"]
 
 
@@ -136,3 +137,24 @@ def test_default_period_is_the_environments() -> None:
     from sb3_pnn.baselines import DEFAULT_DT
 
     assert DEFAULT_DT == CONTROL_PERIOD
+
+
+@pytest.mark.parametrize("period", [0.5, 0.75, 1.0])
+def test_pid_goes_straight_at_long_control_periods(period: float) -> None:
+    """With the 0.5 s thresholds at a longer period one Turn-1 step swings the vehicle past the
+    go-straight band and it chatters left / right to the time limit; its thresholds follow dt."""
+    from sb3_pnn.baselines.pid import FINE_PERIOD, LONG_PERIOD_TURN_THRESHOLDS
+
+    for task in ("PathFollowingStraight-v0", "PathFollowingSine-v0"):
+        res = evaluate_policy_on_task(
+            "pid", task, n_episodes=3, seed=0, env_kwargs={"control_period": period}
+        )
+        assert res.successes == 3, (task, res.end_reasons)  # chattering: time limits
+    expected = (
+        VEHICLE_GAINS["uuv_simulator"]["turn_thresholds"]
+        if period <= FINE_PERIOD
+        else LONG_PERIOD_TURN_THRESHOLDS["uuv_simulator"]
+    )
+    assert PIDController(dt=period).turn_thresholds == expected
+    env = gym.make("rov_envs/PathFollowingStraight-v0", control_period=period)
+    assert PIDController.for_env(env).turn_thresholds == expected

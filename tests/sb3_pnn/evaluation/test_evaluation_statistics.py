@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import rov_envs  # noqa: F401
+from rov_envs.sim.config import CONTROL_PERIOD
 from sb3_pnn.baselines import PIDController, make_baseline
 from sb3_pnn.evaluation import EvaluationResult, evaluate_policy_on_task, wilson_interval
 
@@ -57,7 +58,7 @@ def test_pid_on_the_obstacle_free_task_succeeds_every_time():
     assert res.success_ci95 == pytest.approx(wilson_interval(4, 4))
     assert [e.seed for e in res.episodes] == [7, 8, 9, 10]
     times = [e.time_to_target for e in res.episodes]
-    assert all(t == pytest.approx(e.steps * 0.5) for t, e in zip(times, res.episodes))
+    assert all(t == pytest.approx(e.steps * CONTROL_PERIOD) for t, e in zip(times, res.episodes))
     assert res.mean_time_to_target == pytest.approx(np.mean(times))
     # 200 m at no more than about 1 m/s
     assert 190.0 < res.mean_time_to_target < 400.0

@@ -114,17 +114,20 @@ def test_composite_cell_is_its_base_with_each_factor_changed() -> None:
     # catalog's cell
     assert cell_of("ours+net_arch=255x255").setup == cell_of("ours+net_arch=[255,255]").setup
     assert cell_of("paper+vehicle=wu2018") is CELLS["paper+vehicle=wu2018"]
-    # its planning runs learn at 1 update per 4 steps from its own seed-0 columns, trained at
-    # 1 per step without start noise, none of them observing the goal part
+    # its planning runs learn at 1 update per 2 steps from its own seed-0 columns, trained at
+    # 2 per step without start noise, none of them observing the goal part
     plan = build_ablation_plan(
         AblationConfig("tiny", seeds=2, cells=(STUDY_NO_NOISE,), tasks=("planning_straight",))
     )
     by_id = {spec.run_id: spec for spec in plan}
     spnn = by_id[run_id(STUDY_NO_NOISE, "planning_straight", 1)]
     assert spnn.deps == (run_id(STUDY_NO_NOISE, "pf_straight", 0), run_id(STUDY_NO_NOISE, "oa", 0))
-    assert spnn.sac_kwargs["train_freq"] == [4, "step"]
+    assert (spnn.sac_kwargs["train_freq"], spnn.sac_kwargs["gradient_steps"]) == ([2, "step"], 1)
     for dep in spnn.deps:
-        assert by_id[dep].sac_kwargs["train_freq"] == [1, "step"]
+        assert (by_id[dep].sac_kwargs["train_freq"], by_id[dep].sac_kwargs["gradient_steps"]) == (
+            [1, "step"],
+            2,
+        )
         assert by_id[dep].env_kwargs["start_noise"] == [0.0, 0.0]
         assert by_id[dep].env_kwargs["goal_obs"] is False
 
@@ -222,7 +225,7 @@ def test_stand_in_ablation_report(tmp_path, capsys) -> None:
     assert main(argv, work=fake_work) == 0
     report = (out / "report.md").read_text()
     assert "Made by: `python -m sb3_pnn.reproduce --ablation --tiny --seeds 2" in report
-    assert "| update schedule | 10 per episode | 1 per 4 steps |" in report
+    assert "| update schedule | 10 per episode | 1 per 2 steps |" in report
     # stand-ins: DiscreteSAC evaluates 60 %, SPNN 90 %, of 2 episodes per seed; seed s trains
     # for 60 (1 + s) s, so 1.5 min on average; the CPU time is the executor's own measurement
     assert "| `paper` | paper (see the set-up table) | 50 % [15, 85] (seeds: 50, 50 %);" in report
@@ -402,14 +405,14 @@ def test_avoidance_column_updates_change_only_its_runs() -> None:
     """``oa_updates`` gives the avoidance column its own schedule: its run's spec changes,
     every other run of the study keeps its spec (and hash)."""
     base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}
-    changed = StudyConfig(seeds=1, setup_changes=(("oa_updates", "step:1x2"),))
+    changed = StudyConfig(seeds=1, setup_changes=(("oa_updates", "step:1x3"),))
     plan = {s.run_id: s for s in build_plan(changed)}
     assert set(plan) == set(base)
     differ = {rid for rid in plan if plan[rid].config_hash() != base[rid].config_hash()}
     assert differ == {"prior-oa-s0"}  # SPNN's runs name it by run id (adoption also compares
     oa = plan["prior-oa-s0"].sac_kwargs  # a run's priors' specs)
-    assert (oa["train_freq"], oa["gradient_steps"]) == ([1, "step"], 2)
-    assert base["prior-oa-s0"].sac_kwargs["gradient_steps"] == 1
+    assert (oa["train_freq"], oa["gradient_steps"]) == ([1, "step"], 3)
+    assert base["prior-oa-s0"].sac_kwargs["gradient_steps"] == 2
     assert describe_value("oa_updates", "") == "as the source columns'"
     assert describe_value("oa_updates", "step:1x2") == "2 per step"
     with pytest.raises(ValueError, match="oa_updates='step:0' is not allowed"):

@@ -122,7 +122,7 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     assert "90 % [" in report  # stand-in SPNN success pooled with its Wilson interval
     # a smoke-sized budget is marked as such and gives no verdicts; the end reasons are explained
     # the set-up actually used, factor by factor
-    assert "training set-up: `ours` (" in report and "update schedule 1 per 4 steps" in report
+    assert "training set-up: `ours` (" in report and "update schedule 1 per 2 steps" in report
     assert "**Smoke test** (budget `tiny`" in report and "No verdicts from a smoke test" in report
     assert "agree" not in report.split("## Do we agree with the paper?")[1]
     assert all(f"`{reason}`: " in report for reason in END_REASONS if reason != "none")

@@ -30,7 +30,7 @@ def test_go_straight_is_faster_than_a_turn_and_classes_follow_the_sonar() -> Non
     straight = pace(Constant("Go straight"), env, 1, 12.5)
     turn = pace(Constant("Turn left 1"), env, 1, 12.5)
     assert not straight["speeds"]["near"] and not turn["speeds"]["near"]
-    assert straight["counts"]["far"][ACTION_NAMES.index("Go straight")] == 60  # 30 s / 0.5 s
+    assert straight["counts"]["far"][ACTION_NAMES.index("Go straight")] == 30  # 30 s / 1.0 s
     assert np.mean(straight["speeds"]["far"][-20:]) > 1.5 * np.mean(turn["speeds"]["far"][-20:])
     assert "| 0 % | 0 % | - | 100 % | 100 % |" in row("x", straight)
     with_obstacles = pace(

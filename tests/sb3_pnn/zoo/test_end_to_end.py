@@ -52,7 +52,7 @@ def test_spnn_trains_from_the_priors_train_made(spnn_run: Path, prior_logs: Path
     assert "priors" not in config and "tuning" not in config
     env_kwargs = config["env_kwargs"]  # --env-kwargs merged key by key over the config's
     assert env_kwargs["max_episode_seconds"] == 3
-    assert (env_kwargs["control_period"], env_kwargs["motion_obs"]) == (0.5, True)  # ours
+    assert (env_kwargs["control_period"], env_kwargs["motion_obs"]) == (1.0, True)  # ours
 
 
 def test_tensorboard_has_custom_scalars(spnn_run: Path) -> None:

@@ -1,7 +1,7 @@
 """`train`, `-optimize` and `enjoy` on the shipped YAML defaults: no --env-kwargs, evaluation on.
 
 A user's first command is ``python -m sb3_pnn.train --algo dsac --env ...`` with nothing else.
-The entry's ``env_kwargs`` (0.5 s control period, v and r observed, ...) must then reach the
+The entry's ``env_kwargs`` (1.0 s control period, v and r observed, ...) must then reach the
 evaluation env too, or the first evaluation fails on an observation the model was not trained
 on. These runs keep the full-length episodes of the YAML and only shorten the step budget.
 """
