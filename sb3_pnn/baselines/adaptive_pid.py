@@ -138,7 +138,7 @@ class AdaptivePIDController(PIDController):
 
     @classmethod
     def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
-        """The avoider's coarser thresholds hold at every control period (0.2-1.0 s)."""
+        """The avoider's coarser thresholds, at every control period (measured at 0.5 and 1.0 s)."""
         return VEHICLE_GAINS[vehicle]["turn_thresholds"]
 
     @classmethod

@@ -38,13 +38,13 @@ tests and ``python -m sb3_pnn.evaluate --model pid``): ``kp = 1.5`` /s, ``ki = 0
 
 The thresholds above hold up to a 0.5 s control period (:data:`FINE_PERIOD`). At longer periods
 one step of Turn 1 swings UUV Simulator's BlueROV2 past the narrow go-straight band, and the
-controller chatters between Turn left 1 and Turn right 1 without going straight: on
-PathFollowingStraight-v0 / PathFollowingSine-v0 (60 episodes from seed 2000, 1 m / 5 deg start
-noise) 4 / 60 at 0.6 s and 0-1 / 60 from 0.75 s on reach the end in time. Longer periods
-therefore take ``(0.15, 0.45)`` rad/s (:data:`LONG_PERIOD_TURN_THRESHOLDS`): 60 / 60 on both
-tasks at 0.6-1.0 s, mean |g| 0.14 / 0.18 m at 1.0 s (seed 2000; from seed 1000: (0.1, 0.3)
-passes the line on 5 / 60 at 1.0 s, (0.15, 0.45) on 60 / 60). Wu's set keeps its thresholds
-(60 / 60 at 1.0 s on both tasks, mean |g| 0.6 m).
+controller chatters between Turn left 1 and Turn right 1 without going straight and runs out
+of time: of 60 episodes from seed 2000 (1 m / 5 deg start noise) it ends PathFollowingStraight-v0
+on 4 at 0.6 s and on 1 from 0.75 s to 1.0 s, PathFollowingSine-v0 on none from 0.75 s on.
+Longer periods therefore take ``(0.15, 0.45)`` rad/s (:data:`LONG_PERIOD_TURN_THRESHOLDS`):
+60 / 60 on both tasks at 0.6-1.0 s, mean |g| 0.14 / 0.18 m at 1.0 s (from seed 1000 at 1.0 s:
+(0.1, 0.3) ends the line on 5 / 60, (0.15, 0.45) on 60 / 60). Wu's set keeps its thresholds
+(30 / 30 episodes from seed 1000 at 1.0 s on both tasks, mean |g| 0.6 m).
 """
 
 from __future__ import annotations
