@@ -93,6 +93,8 @@ class AdaptivePIDController(PIDController):
 
     memory_size = 4
     vehicle_gains = VEHICLE_GAINS
+    #: The avoider's coarser thresholds hold at every control period (measured at 0.5 and 1.0 s).
+    long_period_turn_thresholds: dict[str, tuple[float, float]] = {}
 
     def __init__(
         self,
@@ -135,11 +137,6 @@ class AdaptivePIDController(PIDController):
             raise ValueError(
                 f"sonar_span={sonar_span!r} is not allowed: expected a float in (0, 2 pi]"
             )
-
-    @classmethod
-    def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
-        """The avoider's coarser thresholds, at every control period (measured at 0.5 and 1.0 s)."""
-        return VEHICLE_GAINS[vehicle]["turn_thresholds"]
 
     @classmethod
     def env_settings(cls, env: Any) -> dict[str, Any]:

@@ -75,13 +75,6 @@ FINE_PERIOD = 0.5
 LONG_PERIOD_TURN_THRESHOLDS: dict[str, tuple[float, float]] = {"uuv_simulator": (0.15, 0.45)}
 
 
-def default_turn_thresholds(vehicle: str, dt: float) -> tuple[float, float]:
-    """The plain PID's turn thresholds (rad/s) for ``vehicle`` at a control period of ``dt`` s."""
-    if dt > FINE_PERIOD and vehicle in LONG_PERIOD_TURN_THRESHOLDS:
-        return LONG_PERIOD_TURN_THRESHOLDS[vehicle]
-    return VEHICLE_GAINS[vehicle]["turn_thresholds"]
-
-
 # memory columns shared by every controller
 _M_INTEGRAL = 0
 _M_PREV = 1
@@ -118,6 +111,8 @@ class PIDController:
     memory_size = 3
     #: Vehicle-dependent constructor arguments, by the env's ``vehicle`` (module docstring).
     vehicle_gains: dict[str, dict[str, Any]] = VEHICLE_GAINS
+    #: Turn thresholds that replace ``vehicle_gains``' above :data:`FINE_PERIOD`, by vehicle.
+    long_period_turn_thresholds: dict[str, tuple[float, float]] = LONG_PERIOD_TURN_THRESHOLDS
 
     def __init__(
         self,
@@ -178,22 +173,25 @@ class PIDController:
         the gains of its ``vehicle`` (:attr:`vehicle_gains`)."""
         config = cls.env_config(env)
         vehicle = getattr(config, "vehicle", DEFAULT_VEHICLE)
+        turn_thresholds = cls.vehicle_turn_thresholds(vehicle, float(config.dt))
+        return {
+            "dt": float(config.dt),
+            "continuous": bool(config.continuous),
+            **cls.vehicle_gains[vehicle],
+            "turn_thresholds": turn_thresholds,
+        }
+
+    @classmethod
+    def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
+        """This controller's turn thresholds (rad/s) for ``vehicle`` at a ``dt`` s period."""
         if vehicle not in cls.vehicle_gains:
             raise ValueError(
                 f"vehicle={vehicle!r} is not allowed: {cls.__name__} has gains for "
                 f"{sorted(cls.vehicle_gains)}"
             )
-        return {
-            "dt": float(config.dt),
-            "continuous": bool(config.continuous),
-            **cls.vehicle_gains[vehicle],
-            "turn_thresholds": cls.vehicle_turn_thresholds(vehicle, float(config.dt)),
-        }
-
-    @classmethod
-    def vehicle_turn_thresholds(cls, vehicle: str, dt: float) -> tuple[float, float]:
-        """This controller's turn thresholds for ``vehicle`` at a ``dt`` s control period."""
-        return default_turn_thresholds(vehicle, dt)
+        if dt > FINE_PERIOD and vehicle in cls.long_period_turn_thresholds:
+            return cls.long_period_turn_thresholds[vehicle]
+        return cls.vehicle_gains[vehicle]["turn_thresholds"]
 
     @classmethod
     def for_env(cls, env: Any, **overrides: Any) -> PIDController:
