@@ -25,7 +25,12 @@ mean abs(g) instead of the larger return: on the planning tasks the reward's obs
 the task the one with the larger return is often the one that leaves the route wider. With
 ``rank_by="time"`` it ranks by the shorter mean time to the target of its successful episodes
 instead: a policy that alternates hard turns near obstacles crosses them slowly, and on fields
-denser than its training task runs out of time.
+denser than its training task runs out of time. With ``rank_by="discounted"`` it ranks by the
+larger mean discounted return sum_t gamma^t r_t (gamma the model's): the quantity SAC maximises
+from the start state. With r_c paid in proportion to progress (``progress_weighted``), the
+undiscounted return pays a path follower the same for the path whatever its pace, so a check
+that creeps along the path by alternating turns can outrank one that follows it as closely at
+full speed; discounting charges for the pace.
 """
 
 from __future__ import annotations
@@ -47,8 +52,9 @@ DRAWN_VALIDATION_SEED = 30_000
 #: The obstacle generator of those checks (none of the new layouts' generators).
 DRAWN_VALIDATION_LAYOUT = "scatter"
 #: What breaks a tie of success between two checks: the larger mean return (the default), the
-#: smaller mean abs(g) (the route kept closer) or the shorter mean time to the target.
-RANKINGS = ("return", "route", "time")
+#: smaller mean abs(g) (the route kept closer), the shorter mean time to the target or the
+#: larger mean discounted return.
+RANKINGS = ("return", "route", "time", "discounted")
 #: The check entry that the rankings other than the return minimise.
 _MINIMISED = {"route": "mean_abs_cross_track", "time": "mean_time_to_target"}
 
@@ -63,11 +69,19 @@ def checked_ranking(rank_by: Any) -> str:
 def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
     success rate, then (when the check ran them) the success among drawn obstacles, then mean
-    return (``rank_by="return"``), minus mean abs(g) (``"route"``) or minus the mean time to the
-    target (``"time"``; a check without a success ranks last), of one ``history`` entry of
+    return (``rank_by="return"``), minus mean abs(g) (``"route"``), minus the mean time to the
+    target (``"time"``; a check without a success ranks last) or the mean discounted return
+    (``"discounted"``), of one ``history`` entry of
     :class:`KeepBestOnValidation`."""
     key = _MINIMISED.get(checked_ranking(rank_by))
-    if key is not None:
+    if rank_by == "discounted":
+        if "mean_discounted_return" not in check:
+            raise ValueError(
+                f"validation check {check!r} has no 'mean_discounted_return': ranking by "
+                "discounted needs checks that recorded it"
+            )
+        last = float(check["mean_discounted_return"])
+    elif key is not None:
         if key not in check:
             raise ValueError(
                 f"validation check {check!r} has no {key!r}: ranking by {rank_by} needs checks "
@@ -140,7 +154,8 @@ class KeepBestOnValidation(BaseCallback):
         self.episodes = 0
         #: One entry per check: {"episode", "success_rate", "mean_return",
         #: "mean_abs_cross_track", "mean_abs_heading_error", "mean_time_to_target"} and, with
-        #: ``drawn_episodes``, "drawn_success_rate".
+        #: ``drawn_episodes``, "drawn_success_rate"; ranked by the discounted return,
+        #: "mean_discounted_return".
         self.history: list[dict[str, float]] = []
         self.best_episode: int | None = None
         self._best_key: tuple[float, ...] | None = None
@@ -162,12 +177,15 @@ class KeepBestOnValidation(BaseCallback):
         """Validate the model now; keep its weights if they are the best so far."""
         from sb3_pnn.evaluation import evaluate_policy_on_task
 
+        # the discount is asked for only when it ranks, so that other checks run as before
+        discount = {"discount": float(self.model.gamma)} if self.rank_by == "discounted" else {}
         result = evaluate_policy_on_task(
             self.model,
             self.env_id,
             n_episodes=self.n_episodes,
             seed=self.seed,
             env_kwargs=self.env_kwargs or None,
+            **discount,
         )
         entry = {
             "episode": self.episodes,
@@ -177,6 +195,8 @@ class KeepBestOnValidation(BaseCallback):
             "mean_abs_heading_error": result.mean_abs_heading_error,
             "mean_time_to_target": result.mean_time_to_target,
         }
+        if discount:
+            entry["mean_discounted_return"] = result.mean_discounted_return
         if self.drawn_episodes:
             from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 

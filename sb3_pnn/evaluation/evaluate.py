@@ -10,6 +10,7 @@ noise) and returns an :class:`EvaluationResult` with
 * mean and max |distance from the route| (``info["cross_track"]`` = g, m) and mean |heading
   deviation| (``info["heading_error"]`` = a_c of eq. 16, rad) - Figures 12, 13, 15-19 (b, c);
 * the mean time to target (s) over the successful episodes;
+* the mean return and, given a discount gamma, the mean discounted return sum_t gamma^t r_t;
 * per-episode records and, optionally, the first k trajectories (positions, heading deviation,
   distance from the route over time) for the trajectory figures.
 
@@ -35,7 +36,7 @@ from typing import Any
 import numpy as np
 from gymnasium.spaces import Dict
 
-from sb3_pnn.common.checks import check_int
+from sb3_pnn.common.checks import check_int, is_finite_number
 from sb3_pnn.evaluation.backends import Backend, make_backend
 from sb3_pnn.evaluation.result import EpisodeRecord, EvaluationResult, Trajectory, summarise
 
@@ -131,9 +132,18 @@ class _Episodes:
     finishes an episode starts the next pending one (episode ``ep`` is reset with
     ``seed + ep``)."""
 
-    def __init__(self, backend: Backend, n_episodes: int, seed: int, record: int) -> None:
+    def __init__(
+        self,
+        backend: Backend,
+        n_episodes: int,
+        seed: int,
+        record: int,
+        discount: float | None = None,
+    ) -> None:
         n = backend.n
         self.backend, self.n_episodes, self.seed = backend, n_episodes, seed
+        self.discount = discount
+        self.discounted = np.zeros(n)
         self.records: list[EpisodeRecord | None] = [None] * n_episodes
         self.trajectories: list[Trajectory | None] = [None] * record
         self.slot_ep = np.full(n, -1, dtype=np.int64)
@@ -155,7 +165,7 @@ class _Episodes:
         self.next_ep += 1
         self.slot_ep[i] = ep
         self.backend.reset(i, self.seed + ep)
-        self.ret[i] = self.sum_g[i] = self.sum_ac[i] = self.max_g[i] = 0.0
+        self.ret[i] = self.sum_g[i] = self.sum_ac[i] = self.max_g[i] = self.discounted[i] = 0.0
         self.steps[i] = 0
         self.episode_start[i] = True
         if ep < len(self.trajectories):
@@ -196,6 +206,8 @@ class _Episodes:
         g = abs(float(res["cross_track"][i]))
         ac = abs(float(res["heading_error"][i]))
         self.ret[i] += res["reward"][i]
+        if self.discount is not None:  # reward of step t (from 0) weighs gamma^t
+            self.discounted[i] += self.discount ** int(self.steps[i]) * res["reward"][i]
         self.steps[i] += 1
         self.sum_g[i] += g
         self.sum_ac[i] += ac
@@ -229,6 +241,7 @@ class _Episodes:
             max_abs_cross_track=float(self.max_g[i]),
             mean_abs_heading_error=float(self.sum_ac[i] / steps),
             time_to_target=duration if success else None,
+            discounted_return=None if self.discount is None else float(self.discounted[i]),
         )
         if ep in self.traces:
             self.trajectories[ep] = Trajectory(
@@ -294,6 +307,7 @@ def evaluate_policy_on_task(
     deterministic: bool = True,
     n_envs: int | None = None,
     policy_name: str | None = None,
+    discount: float | None = None,
 ) -> EvaluationResult:
     """Run ``n_episodes`` seeded episodes of ``policy`` on ``env_id`` and collect statistics.
 
@@ -313,6 +327,9 @@ def evaluate_policy_on_task(
         deterministic: passed to ``predict``.
         n_envs: vehicles stepped together (default ``min(n_episodes, 50)``).
         policy_name: label stored in the result (default: the baseline name or the class name).
+        discount: with a discount factor gamma in (0, 1], each episode also records its
+            discounted return sum_t gamma^t r_t, and the result their mean (what an agent
+            trained with that gamma maximises from the start state); None (default): not.
 
     Returns:
         An :class:`EvaluationResult`; episodes in index order.
@@ -321,6 +338,10 @@ def evaluate_policy_on_task(
     n_episodes = check_int("n_episodes", n_episodes, 1)
     seed = check_int("seed", seed, 0)
     record_trajectories = check_int("record_trajectories", record_trajectories, 0)
+    if discount is not None and not (is_finite_number(discount) and 0 < discount <= 1):
+        raise ValueError(
+            f"discount={discount!r} is not allowed: expected a number in (0, 1] or None"
+        )
     if record_trajectories > n_episodes:
         raise ValueError(
             f"record_trajectories={record_trajectories!r} is not allowed: expected an int in "
@@ -341,7 +362,13 @@ def evaluate_policy_on_task(
     _check_spaces(policy, name, backend, env_id)
     if hasattr(policy, "reset") and callable(policy.reset):
         policy.reset()
-    episodes = _Episodes(backend, n_episodes, seed, record_trajectories)
+    episodes = _Episodes(
+        backend,
+        n_episodes,
+        seed,
+        record_trajectories,
+        None if discount is None else float(discount),
+    )
     episodes.run(policy, deterministic)
     records = [r for r in episodes.records if r is not None]
     assert len(records) == n_episodes

@@ -59,6 +59,9 @@ class EpisodeRecord:
     max_abs_cross_track: float
     mean_abs_heading_error: float
     time_to_target: float | None
+    #: sum_t gamma^t r_t over the episode, when the evaluation was given a discount gamma (the
+    #: quantity SAC maximises from the start state; None otherwise)
+    discounted_return: float | None = None
 
 
 @dataclass
@@ -108,10 +111,18 @@ class EvaluationResult:
     wall_time_s: float = 0.0
     #: the rov_envs vehicle preset that ran (``env.unwrapped.vehicle``; None for other envs)
     vehicle: str | None = None
+    #: mean of the episodes' discounted returns, when the evaluation was given a discount
+    mean_discounted_return: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-serialisable dict (tuples become lists)."""
-        return _jsonable(asdict(self))
+        """A JSON-serialisable dict (tuples become lists). The discounted returns appear only
+        when the evaluation measured them, so that other results read as they always have."""
+        data = _jsonable(asdict(self))
+        if self.mean_discounted_return is None:
+            del data["mean_discounted_return"]
+            for episode in data["episodes"]:
+                del episode["discounted_return"]
+        return data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> EvaluationResult:
@@ -151,6 +162,11 @@ class EvaluationResult:
             ("mean |heading deviation|", f"{math.degrees(self.mean_abs_heading_error):.2f} deg"),
             ("mean time to target", "n/a (no success)" if ttt is None else f"{ttt:.1f} s"),
             ("mean return", f"{self.mean_return:.1f}"),
+            *(
+                []
+                if self.mean_discounted_return is None
+                else [("mean discounted return", f"{self.mean_discounted_return:.1f}")]
+            ),
             ("wall time", f"{self.wall_time_s:.1f} s"),
         ]
 
@@ -188,6 +204,7 @@ def summarise(
     for e in eps:
         reasons[e.end_reason] = reasons.get(e.end_reason, 0) + 1
     times = [e.time_to_target for e in eps if e.time_to_target is not None]
+    discounted = [e.discounted_return for e in eps]
     return EvaluationResult(
         n_episodes=n,
         successes=successes,
@@ -201,6 +218,9 @@ def summarise(
         mean_abs_heading_error=float(np.mean([e.mean_abs_heading_error for e in eps])),
         mean_time_to_target=float(np.mean(times)) if times else None,
         mean_return=float(np.mean([e.episode_return for e in eps])),
+        mean_discounted_return=(
+            None if None in discounted else float(np.mean(discounted))  # type: ignore[arg-type]
+        ),
         episodes=eps,
         trajectories=trajectories,
         **meta,

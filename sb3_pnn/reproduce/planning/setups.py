@@ -197,6 +197,13 @@ Factors:
   crossing). Eq. 20's obstacle term pays for detours that keep 8 m from every
   obstacle, so the return prefers checks that leave the route wider. The source columns keep
   ranking by return. Model selection on the training task; training is unchanged.
+* ``prior_keep_best_by``: what ranks the source columns' validation checks of equal success:
+  ``"return"`` (ours) or ``"discounted"``, the larger mean discounted return sum_t gamma^t r_t,
+  what SAC maximises (the other rankings of ``keep_best_by`` are taken too). With r_c paid in
+  proportion to progress the undiscounted return pays a path follower as much for creeping along
+  the path with alternating turns as for following it at full speed, and the learners that read
+  a creeping column creep too; the discount charges for the pace. Model selection on the source
+  tasks; training is unchanged.
 * ``planning_obstacle_penalty``: weight of eq. 20's r_v (-2 within 8 m, -4 within 5 m of an
   obstacle's surface, per step) in the learners' planning tasks, training and evaluation (1: the
   paper's; 0: only eq. 21's collision charges for closeness). The source columns' tasks keep
@@ -281,6 +288,7 @@ class TrainingSetup:
     keep_best: bool = False
     keep_best_drawn: int = 0
     keep_best_by: str = "return"
+    prior_keep_best_by: str = "return"
     pnn_lateral_init: float = 1.0
     pnn_lateral_init_sine: float | None = None
     pnn_critic_priors: str = "both"
@@ -369,16 +377,17 @@ class TrainingSetup:
                 f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
                 "the best candidate is chosen on its validation checks (keep_best=true)"
             )
-        if self.keep_best_by not in RANKINGS:
-            raise ValueError(
-                f"keep_best_by={self.keep_best_by!r} is not allowed: expected one of "
-                f"{list(RANKINGS)}"
-            )
-        if self.keep_best_by != "return" and not self.keep_best:
-            raise ValueError(
-                f"keep_best_by={self.keep_best_by!r} is not allowed with keep_best off: it ranks "
-                "the validation checks (keep_best=true)"
-            )
+        for name in ("keep_best_by", "prior_keep_best_by"):
+            value = getattr(self, name)
+            if value not in RANKINGS:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected one of {list(RANKINGS)}"
+                )
+            if value != "return" and not self.keep_best:
+                raise ValueError(
+                    f"{name}={value!r} is not allowed with keep_best off: it ranks the "
+                    "validation checks (keep_best=true)"
+                )
         if self.keep_best_drawn and not self.keep_best:
             raise ValueError(
                 f"keep_best_drawn={self.keep_best_drawn} is not allowed with keep_best off: "
@@ -764,15 +773,17 @@ class TrainingSetup:
     def validation(self, learner: bool = False) -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
-        and rank by ``keep_best_by`` (named only when it is not the return, so that the specs
-        of runs ranked by return keep their hash)."""
+        and rank by ``keep_best_by``, a source column's by ``prior_keep_best_by`` (named only
+        when it is not the return, so that the specs of runs ranked by return keep their
+        hash)."""
         if not self.keep_best:
             return {}
         checks: dict[str, int | str] = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
         if learner and self.keep_best_drawn:
             checks["drawn_episodes"] = self.keep_best_drawn
-        if learner and self.keep_best_by != "return":
-            checks["rank_by"] = self.keep_best_by
+        rank_by = self.keep_best_by if learner else self.prior_keep_best_by
+        if rank_by != "return":
+            checks["rank_by"] = rank_by
         return checks
 
     def to_dict(self) -> dict[str, Any]:
@@ -920,6 +931,7 @@ FACTOR_LABELS: dict[str, str] = {
     "keep_best": "best policy on validation episodes kept",
     "keep_best_drawn": "learners' checks also among drawn obstacles (episodes)",
     "keep_best_by": "learners' checks of equal success ranked by",
+    "prior_keep_best_by": "source columns' checks of equal success ranked by",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
     "pnn_critic_priors": "PNN critics read the prior's critic",

@@ -30,15 +30,22 @@ def _model() -> DiscreteSAC:
     return DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}, seed=0)
 
 
-def _result(rate: float, ret: float, g: float = 1.0, time: float | None = 100.0) -> SimpleNamespace:
+def _result(
+    rate: float,
+    ret: float,
+    g: float = 1.0,
+    time: float | None = 100.0,
+    discounted: float | None = None,
+) -> SimpleNamespace:
     """What the callback reads of an evaluation: success, return, mean abs(g), mean abs(a_c),
-    mean time to the target."""
+    mean time to the target, mean discounted return."""
     return SimpleNamespace(
         success_rate=rate,
         mean_return=ret,
         mean_abs_cross_track=g,
         mean_abs_heading_error=0.1,
         mean_time_to_target=time,
+        mean_discounted_return=discounted,
     )
 
 
@@ -247,6 +254,69 @@ def test_time_ranking_puts_a_check_without_a_success_last() -> None:
     assert validation_rank(none, "time") == (0.0, -float("inf"))
     with pytest.raises(ValueError, match="has no 'mean_time_to_target': ranking by time"):
         validation_rank({"success_rate": 1.0, "mean_return": 3.0}, "time")
+
+
+def test_discounted_ranking_keeps_the_best_discounted_return_of_the_best_successes(
+    monkeypatch,
+) -> None:
+    # own-task (success, return, mean abs(g), time, discounted return) of four checks: the
+    # first creeps along the path (largest return, smallest discounted return)
+    own = [(1.0, 390.0, 0.1, 341.0, 60.0), (1.0, 380.0, 0.4, 208.0, 95.0)]
+    own += [(0.9, 300.0, 0.5, 200.0, 120.0), (1.0, 385.0, 0.6, 205.0, 90.0)]
+    asked = []
+    results = iter(own)
+
+    def evaluate(*args, **kwargs):
+        asked.append(kwargs.get("discount"))
+        return _result(*next(results))
+
+    monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", evaluate)
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by="discounted")
+    keeper.init_callback(model)
+    snapshots = _checks_of_changing_weights(keeper, model, len(own))
+    assert asked == [model.gamma] * 4  # the model's own discount
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
+    record = keeper.to_dict()
+    assert record["rank_by"] == "discounted" and record["best_episode"] == 2
+    assert [h["mean_discounted_return"] for h in record["history"]] == [60.0, 95.0, 120.0, 90.0]
+    assert max(record["history"], key=validation_rank)["episode"] == 1  # by return: the creeper
+    with pytest.raises(ValueError, match="has no 'mean_discounted_return': ranking by discounted"):
+        validation_rank({"success_rate": 1.0, "mean_return": 3.0}, "discounted")
+
+
+def test_checks_ranked_by_return_do_not_ask_for_a_discount(monkeypatch) -> None:
+    asked = []
+
+    def evaluate(*args, **kwargs):
+        asked.append(kwargs)
+        return _result(1.0, 1.0)
+
+    monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", evaluate)
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3)
+    keeper.init_callback(_model())
+    keeper.check()
+    assert "discount" not in asked[0] and "mean_discounted_return" not in keeper.history[0]
+
+
+def test_prior_keep_best_by_reaches_the_source_columns_only() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+
+    setup = OURS.with_(prior_keep_best_by="discounted")
+    assert setup.validation()["rank_by"] == "discounted"
+    assert setup.validation(learner=True) == OURS.validation(learner=True)
+    assert "rank_by" not in OURS.validation()  # default: the study's hashes
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("prior_keep_best_by", "discounted"),)))
+    default = {spec.run_id: spec for spec in build_plan(StudyConfig(seeds=1))}
+    for spec in plan:
+        ranking = spec.validation.get("rank_by")
+        assert ranking == ("discounted" if spec.kind == "prior" else None), spec.run_id
+        if spec.kind != "prior":  # the learners' own specs do not change
+            assert spec.to_dict() == default[spec.run_id].to_dict(), spec.run_id
+    with pytest.raises(ValueError, match="prior_keep_best_by='time' is not allowed with keep_best"):
+        PAPER.with_(prior_keep_best_by="time")
+    with pytest.raises(ValueError, match=r"prior_keep_best_by='gap' is not allowed: expected one"):
+        OURS.with_(prior_keep_best_by="gap")
 
 
 def test_keep_best_by_reaches_the_learners_only() -> None:

@@ -106,6 +106,42 @@ def test_metrics_match_a_hand_rolled_loop_over_single_envs():
         assert rec.mean_abs_heading_error == pytest.approx(np.mean(ac))
 
 
+def test_discounted_return_matches_a_hand_rolled_sum_and_stays_out_unless_asked():
+    """With a discount each episode records sum_t gamma^t r_t of its own rewards (as SAC's
+    objective counts them from the start state); without one the results read as before."""
+    gamma = 0.9
+    res = evaluate_policy_on_task(
+        "adaptive_pid", "PlanningSine-v0", n_episodes=2, seed=4, discount=gamma
+    )
+    env = gym.make("rov_envs/PlanningSine-v0", start_noise=(1.0, math.radians(5.0)))
+    ctrl = make_baseline("adaptive_pid", env=env)
+    sums = []
+    for i in range(2):
+        obs, _ = env.reset(seed=4 + i)
+        ctrl.reset()
+        total, t, done = 0.0, 0, False
+        while not done:
+            obs, r, term, trunc, _ = env.step(ctrl.predict(obs)[0])
+            total += gamma**t * r
+            t, done = t + 1, term or trunc
+        sums.append(total)
+    assert [e.discounted_return for e in res.episodes] == pytest.approx(sums)
+    assert res.mean_discounted_return == pytest.approx(np.mean(sums))
+    # gamma = 1 is the plain return; the discount changes nothing else
+    plain = evaluate_policy_on_task("adaptive_pid", "PlanningSine-v0", n_episodes=2, seed=4)
+    assert plain.mean_discounted_return is None
+    assert "mean_discounted_return" not in plain.to_dict()
+    assert "discounted_return" not in plain.to_dict()["episodes"][0]
+    one = evaluate_policy_on_task(
+        "adaptive_pid", "PlanningSine-v0", n_episodes=2, seed=4, discount=1.0
+    )
+    assert one.mean_discounted_return == pytest.approx(plain.mean_return)
+    assert one.to_dict()["mean_return"] == plain.to_dict()["mean_return"]
+    back = EvaluationResult.from_dict(json.loads(json.dumps(res.to_dict())))
+    assert back.mean_discounted_return == res.mean_discounted_return
+    assert "mean discounted return" in res.format_table()
+
+
 def test_results_do_not_depend_on_the_batch_size():
     a = evaluate_policy_on_task("adaptive_pid", "PlanningStraightUniform-v0", 5, n_envs=1)
     b = evaluate_policy_on_task("adaptive_pid", "PlanningStraightUniform-v0", 5, n_envs=3)
@@ -150,6 +186,9 @@ def test_sb3_model_is_evaluated_with_batched_predict():
         ({"policy": object()}, "predict"),
         ({"policy": "lqr"}, "policy"),
         ({"seed": -1}, "seed"),
+        ({"discount": 0.0}, r"discount=0.0 is not allowed: expected a number in \(0, 1\]"),
+        ({"discount": 1.5}, "discount=1.5"),
+        ({"discount": True}, "discount=True"),
     ],
 )
 def test_bad_input_is_refused(kwargs, match):

@@ -1,0 +1,129 @@
+"""How closely and how fast a study's kept policies keep their route, on fresh validation seeds.
+
+For each run this evaluates the kept policy on its own planning task and on the path without
+obstacles (the run's ``"original"`` and ``"path_following"`` evaluation tasks, with their env
+keywords) on seeds 40000+, apart from the checks' seeds (20000+ and 30000+) and the study's
+evaluation seeds (10000+): a route measure that nothing was chosen on. It prints per run the
+success, mean abs(g), mean abs(a_c) and mean time to the target of both tasks, and their means
+over the runs. ``--against BASE`` prints a second study's runs of the same seeds beside them and
+the relative change of the mean abs(g) (the route rules of docs/ablation sections 22-32).
+
+Usage: python -m sb3_pnn.reproduce.tools.fresh_route STUDY --agent spnn --path straight
+    [--seeds 0 1 2] [--episodes 50] [--against BASE_STUDY]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import torch as th
+
+from sb3_pnn.baselines import BASELINE_NAMES
+from sb3_pnn.common.checks import positive_int
+from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.reproduce.tools.replay import run_folders, run_model
+
+#: First seed of the fresh validation episodes.
+FRESH_SEED = 40_000
+#: The run's evaluation tasks that are replayed: its own planning task, the path alone.
+TASKS = ("original", "path_following")
+
+
+def route(parser: argparse.ArgumentParser, run: Path, episodes: int) -> dict[str, dict]:
+    """Per task of :data:`TASKS`: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to
+    the target (s; None without a success) of the run's kept policy on seeds 40000+."""
+    evals = run / "eval.json"
+    if not evals.is_file():
+        parser.error(f"{evals} does not exist: expected a finished run of a study")
+    tasks = json.loads(evals.read_text())
+    model = run_model(parser, run)
+    policy = json.loads((run / "manifest.json").read_text())["agent"] if model is None else model
+    out = {}
+    for task in TASKS:
+        if task not in tasks:
+            parser.error(f"{evals} has no {task!r} evaluation: expected a planning run")
+        result = evaluate_policy_on_task(
+            policy,
+            tasks[task]["env_id"],
+            n_episodes=episodes,
+            seed=FRESH_SEED,
+            env_kwargs=tasks[task]["env_kwargs"],
+        )
+        out[task] = {
+            "success": result.success_rate,
+            "g": result.mean_abs_cross_track,
+            "ac": math.degrees(result.mean_abs_heading_error),
+            "time": result.mean_time_to_target,
+        }
+    return out
+
+
+def cells(measure: dict[str, dict]) -> list[str]:
+    """Table cells of one run's :func:`route`: per task "success, |g|, |a_c|, time"."""
+    return [
+        f"{100 * m['success']:.0f} %, {m['g']:.2f} m, {m['ac']:.1f} deg, "
+        + ("-" if m["time"] is None else f"{m['time']:.0f} s")
+        for m in (measure[task] for task in TASKS)
+    ]
+
+
+def means(measures: list[dict[str, dict]]) -> dict[str, dict]:
+    """The mean over runs of every figure of :func:`route` (times over the runs that have one)."""
+    out = {}
+    for task in TASKS:
+        rows = [m[task] for m in measures]
+        times = [r["time"] for r in rows if r["time"] is not None]
+        out[task] = {key: float(np.mean([r[key] for r in rows])) for key in ("success", "g", "ac")}
+        out[task]["time"] = float(np.mean(times)) if times else None
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("study", type=Path)
+    parser.add_argument("--agent", default="spnn", help="a learner or a PID baseline")
+    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
+    parser.add_argument("--seeds", type=int, nargs="*", default=None)
+    parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
+    parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
+    args = parser.parse_args(argv)
+    th.set_num_threads(1)
+    runs = run_folders(args.study, args.agent, args.path, args.seeds)
+    if not runs or not runs[0][1].is_dir():
+        parser.error(
+            f"{args.study / 'runs'} holds no run of --agent {args.agent!r} on the {args.path} "
+            f"path: expected a study folder and a learner or one of {list(BASELINE_NAMES)}"
+        )
+    studies = [args.study] if args.against is None else [args.against, args.study]
+    header = ["seed"]
+    for study in studies:
+        header += [f"{study}: own task", f"{study}: no obstacles"]
+    print("| " + " | ".join(header) + " |\n|" + "---|" * len(header))
+    measured: list[list[dict]] = [[] for _ in studies]
+    for seed, _ in runs:
+        row = [str(seed)]
+        for i, study in enumerate(studies):
+            run = run_folders(study, args.agent, args.path, [seed])[0][1]
+            measured[i].append(route(parser, run, args.episodes))
+            row += cells(measured[i][-1])
+        print("| " + " | ".join(row) + " |")
+    summary = [means(m) for m in measured]
+    for study, mean in zip(studies, summary, strict=True):
+        print(f"mean over {len(runs)} run(s), {study}: " + "; ".join(cells(mean)))
+    if args.against is not None:
+        base, arm = summary
+        print(
+            "mean abs(g) change: "
+            + ", ".join(
+                f"{task} {100 * (arm[task]['g'] / base[task]['g'] - 1):+.0f} %" for task in TASKS
+            )
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
