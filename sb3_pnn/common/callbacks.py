@@ -55,8 +55,13 @@ DRAWN_VALIDATION_LAYOUT = "scatter"
 #: smaller mean abs(g) (the route kept closer), the shorter mean time to the target or the
 #: larger mean discounted return.
 RANKINGS = ("return", "route", "time", "discounted")
-#: The check entry that the rankings other than the return minimise.
-_MINIMISED = {"route": "mean_abs_cross_track", "time": "mean_time_to_target"}
+#: The check entry each ranking reads after the success, and its sign (+1: larger ranks higher).
+_RANKED_ENTRY = {
+    "return": ("mean_return", 1.0),
+    "route": ("mean_abs_cross_track", -1.0),
+    "time": ("mean_time_to_target", -1.0),
+    "discounted": ("mean_discounted_return", 1.0),
+}
 
 
 def checked_ranking(rank_by: Any) -> str:
@@ -73,23 +78,13 @@ def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[flo
     target (``"time"``; a check without a success ranks last) or the mean discounted return
     (``"discounted"``), of one ``history`` entry of
     :class:`KeepBestOnValidation`."""
-    key = _MINIMISED.get(checked_ranking(rank_by))
-    if rank_by == "discounted":
-        if "mean_discounted_return" not in check:
-            raise ValueError(
-                f"validation check {check!r} has no 'mean_discounted_return': ranking by "
-                "discounted needs checks that recorded it"
-            )
-        last = float(check["mean_discounted_return"])
-    elif key is not None:
-        if key not in check:
-            raise ValueError(
-                f"validation check {check!r} has no {key!r}: ranking by {rank_by} needs checks "
-                "that recorded it"
-            )
-        last = -float("inf") if check[key] is None else -float(check[key])
-    else:
-        last = float(check["mean_return"])
+    key, sign = _RANKED_ENTRY[checked_ranking(rank_by)]
+    if key not in check:
+        raise ValueError(
+            f"validation check {check!r} has no {key!r}: ranking by {rank_by} needs checks "
+            "that recorded it"
+        )
+    last = -float("inf") if check[key] is None else sign * float(check[key])
     if "drawn_success_rate" in check:
         return (float(check["success_rate"]), float(check["drawn_success_rate"]), last)
     return (float(check["success_rate"]), last)
