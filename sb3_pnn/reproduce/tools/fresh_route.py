@@ -25,7 +25,7 @@ import torch as th
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.tools.replay import run_folders, run_model
+from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model
 
 #: First seed of the fresh validation episodes.
 FRESH_SEED = 40_000
@@ -36,22 +36,13 @@ TASKS = ("original", "path_following")
 def route(parser: argparse.ArgumentParser, run: Path, episodes: int) -> dict[str, dict]:
     """Per task of :data:`TASKS`: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to
     the target (s; None without a success) of the run's kept policy on seeds 40000+."""
-    evals = run / "eval.json"
-    if not evals.is_file():
-        parser.error(f"{evals} does not exist: expected a finished run of a study")
-    tasks = json.loads(evals.read_text())
+    evaluated = {task: run_eval_task(parser, run, task) for task in TASKS}
     model = run_model(parser, run)
     policy = json.loads((run / "manifest.json").read_text())["agent"] if model is None else model
     out = {}
-    for task in TASKS:
-        if task not in tasks:
-            parser.error(f"{evals} has no {task!r} evaluation: expected a planning run")
+    for task, (env_id, env_kwargs) in evaluated.items():
         result = evaluate_policy_on_task(
-            policy,
-            tasks[task]["env_id"],
-            n_episodes=episodes,
-            seed=FRESH_SEED,
-            env_kwargs=tasks[task]["env_kwargs"],
+            policy, env_id, n_episodes=episodes, seed=FRESH_SEED, env_kwargs=env_kwargs
         )
         out[task] = {
             "success": result.success_rate,

@@ -52,16 +52,26 @@ def run_folders(
     return [(seed, study / "runs" / f"{agent}-{path}-s{seed}") for seed in seeds]
 
 
-def run_env_kwargs(
+def run_eval_task(
     parser: argparse.ArgumentParser, run: Path, task: str = "original"
-) -> dict[str, Any]:
-    """The env keywords of the run's evaluation on ``task`` (a learner's or baseline's
-    ``"original"`` planning task, a source column's ``"own"``); a run without one stops the
-    command."""
+) -> tuple[str, dict[str, Any]]:
+    """``(env_id, env keywords)`` of the run's evaluation on ``task`` (a learner's or
+    baseline's ``"original"`` planning task or ``"path_following"``, a source column's
+    ``"own"``); a run without it stops the command."""
     eval_file = run / "eval.json"
     if not eval_file.is_file():
         parser.error(f"{eval_file} does not exist: expected a finished run of a study")
-    return dict(json.loads(eval_file.read_text())[task]["env_kwargs"])
+    tasks = json.loads(eval_file.read_text())
+    if task not in tasks:
+        parser.error(f"{eval_file} has no {task!r} evaluation: expected one of {sorted(tasks)}")
+    return str(tasks[task].get("env_id", "")), dict(tasks[task]["env_kwargs"])
+
+
+def run_env_kwargs(
+    parser: argparse.ArgumentParser, run: Path, task: str = "original"
+) -> dict[str, Any]:
+    """The env keywords of the run's evaluation on ``task`` (see :func:`run_eval_task`)."""
+    return run_eval_task(parser, run, task)[1]
 
 
 def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
