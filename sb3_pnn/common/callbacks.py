@@ -71,6 +71,11 @@ def checked_ranking(rank_by: Any) -> str:
     return str(rank_by)
 
 
+def ranked_entry(rank_by: str) -> str:
+    """The validation check's entry that ``rank_by`` ranks by after the success."""
+    return _RANKED_ENTRY[checked_ranking(rank_by)][0]
+
+
 def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
     success rate, then (when the check ran them) the success among drawn obstacles, then mean

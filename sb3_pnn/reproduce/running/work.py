@@ -11,7 +11,8 @@ It writes into the run's temporary folder:
 * ``episodes.json``: per training episode return, length, success and end reason
   (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
   training episodes (key ``ep_<index>``, arrays (T, 2));
-* ``selection.json`` (``select`` runs): each candidate's kept validation check and the one kept;
+* ``selection.json`` (``select`` runs): each candidate's kept validation check (its success and
+  the entry it was ranked by) and the one kept;
   the run's ``model.zip``, ``validation.json`` and ``eval.json`` are that candidate's;
 * ``eval.json``: for every run with evaluation tasks (all of them in the study), one
   :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
@@ -145,11 +146,11 @@ def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:
     }
 
 
-def kept_check(run: Path) -> tuple[float, float] | None:
-    """(success rate, mean return) of the validation check whose policy ``run`` kept (the
-    ``best_episode`` that :class:`sb3_pnn.common.callbacks.KeepBestOnValidation` recorded, so
-    the ranking rule lives in one place); None when its budget ended before the first check
-    (it kept its last policy)."""
+def kept_check(run: Path) -> tuple[dict[str, Any], str] | None:
+    """The validation check whose policy ``run`` kept (the ``best_episode`` that
+    :class:`sb3_pnn.common.callbacks.KeepBestOnValidation` recorded) and the ranking it was kept
+    by, so the ranking rule lives in one place; None when its budget ended before the first
+    check (it kept its last policy)."""
     path = run / "validation.json"
     if not path.is_file():
         raise ValueError(
@@ -160,25 +161,32 @@ def kept_check(run: Path) -> tuple[float, float] | None:
     kept = [c for c in record["history"] if c["episode"] == record.get("best_episode")]
     if not kept:
         return None
-    from sb3_pnn.common.callbacks import validation_rank
+    return kept[0], str(record.get("rank_by", "return"))
 
-    return validation_rank(kept[0], record.get("rank_by", "return"))
+
+def _ranked_figures(check: dict[str, Any], rank_by: str) -> dict[str, Any]:
+    """What a candidate was ranked by: its kept check's success (and drawn success when it
+    ran them) and the entry its ranking reads, under that entry's own name."""
+    from sb3_pnn.common.callbacks import ranked_entry
+
+    names = ("success_rate", "drawn_success_rate", ranked_entry(rank_by))
+    return {name: check[name] for name in names if name in check}
 
 
 def select(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
     """Keep the candidate source column that did best on validation episodes of its own task
-    (success rate, then mean return; a tie goes to the first candidate, and so does the choice
-    when no candidate's budget reached a check); copy its model and records into ``tmp``."""
-    checks = {dep: kept_check(deps[dep]) for dep in spec.deps}
+    (success rate, then the ranking its checks were kept by; a tie goes to the first candidate,
+    and so does the choice when no candidate's budget reached a check); copy its model and
+    records into ``tmp``."""
+    from sb3_pnn.common.callbacks import validation_rank
+
+    kept = {dep: kept_check(deps[dep]) for dep in spec.deps}
     unranked = (-math.inf, -math.inf)
     # max keeps the first of equals
-    chosen = max(spec.deps, key=lambda dep: checks[dep] or unranked)
+    chosen = max(spec.deps, key=lambda dep: validation_rank(*kept[dep]) if kept[dep] else unranked)
     for name in ("model.zip", "validation.json", "eval.json"):
         shutil.copyfile(deps[chosen] / name, tmp / name)
-    table = {
-        dep: None if c is None else {"success_rate": c[0], "mean_return": c[1]}
-        for dep, c in checks.items()
-    }
+    table = {dep: None if k is None else _ranked_figures(*k) for dep, k in kept.items()}
     (tmp / "selection.json").write_text(json.dumps({"candidates": table, "chosen": chosen}))
     return {"chosen": chosen}
 

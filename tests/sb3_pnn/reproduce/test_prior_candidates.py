@@ -91,6 +91,23 @@ def test_the_candidate_with_the_best_kept_check_is_copied(tmp_path) -> None:
     assert table["candidates"]["prior-oa-s0"] == {"success_rate": 0.9, "mean_return": 500.0}
 
 
+def test_candidates_kept_by_the_discounted_return_are_ranked_and_recorded_by_it(tmp_path) -> None:
+    spec = _plan(2, seeds=1)["prior-pf_straight-best2-s0"]
+    deps = {d: tmp_path / d for d in spec.deps}
+    # the first candidate has the larger return, the second the larger discounted return
+    for dep, tag, ret, disc in ((spec.deps[0], "a", 390.0, 60.0), (spec.deps[1], "b", 320.0, 80.0)):
+        check = {**_check(50, 1.0, ret), "mean_discounted_return": disc}
+        _candidate(deps[dep], [check], tag, 50)
+        record = json.loads((deps[dep] / "validation.json").read_text())
+        (deps[dep] / "validation.json").write_text(json.dumps({**record, "rank_by": "discounted"}))
+    out = tmp_path / "out"
+    out.mkdir()
+    assert run_work(spec, out, deps)["chosen"] == "prior-pf_straight-s1"
+    table = json.loads((out / "selection.json").read_text())["candidates"]
+    assert table["prior-pf_straight-s0"] == {"success_rate": 1.0, "mean_discounted_return": 60.0}
+    assert table["prior-pf_straight-s1"] == {"success_rate": 1.0, "mean_discounted_return": 80.0}
+
+
 def test_ties_and_budgets_shorter_than_a_check_go_to_the_first_candidate(tmp_path) -> None:
     spec = _plan(2, seeds=1)["prior-pf_sine-best2-s0"]
     deps = {d: tmp_path / d for d in spec.deps}
