@@ -296,7 +296,7 @@ def prior_run(
         eval_episodes=eval_episodes,
         sac_kwargs=setup.sac_kwargs(prior=True, column=name),
         env_kwargs=setup.train_env_kwargs(env_id),
-        validation=setup.validation(),
+        validation=setup.validation(column=name),
     )
 
 
@@ -309,10 +309,10 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
     for path in config.paths:
         for agent in config.agents:
             needed.update(t.format(path=path) for t in AGENTS[agent])
-    k = setup.prior_candidates
     runs: list[RunSpec] = []
     for column_set in prior_seeds:
         for name in PRIOR_ENVS:
+            k = setup.column_candidates(name)
             if name in needed:
                 for seed in candidate_seeds(column_set, k):
                     runs.append(
@@ -354,7 +354,10 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
             prior_seed = seed if config.prior_per_seed else 0
             for agent in config.agents:
                 deps = tuple(
-                    column_run_id(t.format(path=path), prior_seed, k) for t in AGENTS[agent]
+                    column_run_id(
+                        name := t.format(path=path), prior_seed, setup.column_candidates(name)
+                    )
+                    for t in AGENTS[agent]
                 )
                 own_env = setup.agent_env_kwargs(agent)
                 runs.append(

@@ -204,6 +204,13 @@ Factors:
   the path with alternating turns as for following it at full speed, and the learners that read
   a creeping column creep too; the discount charges for the pace. Model selection on the source
   tasks; training is unchanged.
+* ``prior_candidates_pf_straight``, ``prior_keep_best_by_pf_straight``: the same two choices
+  for the straight path-following column alone (None: as the other columns), which only the
+  learners of the straight path read; the sine column and the avoidance column keep
+  ``prior_candidates`` and ``prior_keep_best_by``. The best of two straight columns ranked by
+  the discounted return replaces a column that creeps along the line with one that follows it
+  at full pace as closely, where on the sinusoid the faster candidates keep a wider route
+  (docs/ablation/README.md, sections 32-34).
 * ``planning_obstacle_penalty``: weight of eq. 20's r_v (-2 within 8 m, -4 within 5 m of an
   obstacle's surface, per step) in the learners' planning tasks, training and evaluation (1: the
   paper's; 0: only eq. 21's collision charges for closeness). The source columns' tasks keep
@@ -289,6 +296,7 @@ class TrainingSetup:
     keep_best_drawn: int = 0
     keep_best_by: str = "return"
     prior_keep_best_by: str = "return"
+    prior_keep_best_by_pf_straight: str | None = None
     pnn_lateral_init: float = 1.0
     pnn_lateral_init_sine: float | None = None
     pnn_critic_priors: str = "both"
@@ -325,6 +333,7 @@ class TrainingSetup:
     oa_time_limit: float | None = None
     oa_offset_obs: bool = False
     prior_candidates: int = 1
+    prior_candidates_pf_straight: int | None = None
     planning_layout: str = "fixed"
     planning_obstacle_penalty: float = 1.0
     sonar_span: float = 180.0
@@ -372,16 +381,33 @@ class TrainingSetup:
                 f"pnn_n_steps_sine={sine_n!r} is not allowed: expected an integer >= 1, or None "
                 "for pnn_n_steps's value"
             )
-        if self.prior_candidates > 1 and not self.keep_best:
+        straight_k = self.prior_candidates_pf_straight
+        if straight_k is not None and (
+            isinstance(straight_k, bool) or not isinstance(straight_k, int) or straight_k < 1
+        ):
             raise ValueError(
-                f"prior_candidates={self.prior_candidates} is not allowed with keep_best off: "
-                "the best candidate is chosen on its validation checks (keep_best=true)"
+                f"prior_candidates_pf_straight={straight_k!r} is not allowed: expected an "
+                "integer >= 1, or None for prior_candidates's value"
             )
-        for name in ("keep_best_by", "prior_keep_best_by"):
+        for name in ("prior_candidates", "prior_candidates_pf_straight"):
             value = getattr(self, name)
+            if value is not None and value > 1 and not self.keep_best:
+                raise ValueError(
+                    f"{name}={value} is not allowed with keep_best off: the best candidate is "
+                    "chosen on its validation checks (keep_best=true)"
+                )
+        for name in ("keep_best_by", "prior_keep_best_by", "prior_keep_best_by_pf_straight"):
+            value = getattr(self, name)
+            if value is None and name == "prior_keep_best_by_pf_straight":
+                continue
             if value not in RANKINGS:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected one of {list(RANKINGS)}"
+                    + (
+                        " (or None for prior_keep_best_by's)"
+                        if name.endswith("_pf_straight")
+                        else ""
+                    )
                 )
             if value != "return" and not self.keep_best:
                 raise ValueError(
@@ -770,18 +796,34 @@ class TrainingSetup:
             )
         return self.on_path(name, path), default
 
-    def validation(self, learner: bool = False) -> dict[str, int | str]:
+    def column_candidates(self, column: str) -> int:
+        """How many training runs source column ``column`` (``pf_straight``, ``pf_sine`` or
+        ``oa``) is the best of: ``prior_candidates``, or ``prior_candidates_pf_straight`` for
+        the straight path-following column where that is set."""
+        if column == "pf_straight" and self.prior_candidates_pf_straight is not None:
+            return self.prior_candidates_pf_straight
+        return self.prior_candidates
+
+    def column_keep_best_by(self, column: str) -> str:
+        """What ranks the validation checks (and the candidates) of source column ``column``:
+        ``prior_keep_best_by``, or ``prior_keep_best_by_pf_straight`` for the straight
+        path-following column where that is set."""
+        if column == "pf_straight" and self.prior_keep_best_by_pf_straight is not None:
+            return self.prior_keep_best_by_pf_straight
+        return self.prior_keep_best_by
+
+    def validation(self, learner: bool = False, column: str = "") -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
-        and rank by ``keep_best_by``, a source column's by ``prior_keep_best_by`` (named only
-        when it is not the return, so that the specs of runs ranked by return keep their
-        hash)."""
+        and rank by ``keep_best_by``, source column ``column``'s by :meth:`column_keep_best_by`
+        (named only when it is not the return, so that the specs of runs ranked by return keep
+        their hash)."""
         if not self.keep_best:
             return {}
         checks: dict[str, int | str] = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
         if learner and self.keep_best_drawn:
             checks["drawn_episodes"] = self.keep_best_drawn
-        rank_by = self.keep_best_by if learner else self.prior_keep_best_by
+        rank_by = self.keep_best_by if learner else self.column_keep_best_by(column)
         if rank_by != "return":
             checks["rank_by"] = rank_by
         return checks
@@ -970,6 +1012,8 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_time_limit": "time limit of the avoidance task's training episodes (s)",
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
+    "prior_candidates_pf_straight": "straight path-following column: best of this many runs",
+    "prior_keep_best_by_pf_straight": "straight path-following column's checks ranked by",
     "planning_layout": "obstacles the planning agents train on",
     "planning_obstacle_penalty": "weight of eq. 20's r_v in the learners' planning tasks",
 }
@@ -999,6 +1043,8 @@ def describe_value(name: str, value: Any) -> str:
         return "every sample"
     if name == "oa_corridor" and value is None:
         return "the task's (30 m)"
+    if name in ("prior_candidates_pf_straight", "prior_keep_best_by_pf_straight") and value is None:
+        return "as the other source columns'"
     if name == "oa_time_limit" and value is None:
         return "the task's (120 s)"
     if name in SINE_PATH_FACTORS and value is None:
@@ -1025,6 +1071,18 @@ def describe_value(name: str, value: Any) -> str:
     if name == "success_reward":
         return f"{value:g}"
     return str(value)
+
+
+#: Factors that refine another with a name (None: the refined factor's), and an example value.
+NAMED_REFINEMENTS: dict[str, str] = {
+    "spnn_gate_sine": "soft (a gate's name, or null)",
+    "prior_keep_best_by_pf_straight": "discounted (a ranking, or null)",
+}
+#: Factors that refine another with an integer (None: the refined factor's), and an example.
+COUNTED_REFINEMENTS: dict[str, str] = {
+    "pnn_n_steps_sine": "1 (an integer, or null)",
+    "prior_candidates_pf_straight": "2 (an integer, or null)",
+}
 
 
 def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
@@ -1064,9 +1122,9 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             value = float(value) if ok else value
         elif isinstance(default, int):
             ok = isinstance(value, int) and not isinstance(value, bool)
-        elif name == "spnn_gate_sine":  # a gate's name, or null for spnn_gate's
+        elif name in NAMED_REFINEMENTS:  # a name, or null for the value it refines
             ok = value is None or isinstance(value, str)
-        elif name == "pnn_n_steps_sine":  # a length, or null for pnn_n_steps's
+        elif name in COUNTED_REFINEMENTS:  # an integer, or null for the value it refines
             ok = value is None or (isinstance(value, int) and not isinstance(value, bool))
         elif default is None:  # a number, or null for "as the factor it refines"
             ok = value is None or (isinstance(value, (int, float)) and not isinstance(value, bool))
@@ -1079,10 +1137,10 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             example = json.dumps(list(default) if isinstance(default, tuple) else default)
             if default is None:
                 example = "1.0 (a number, or null)"
-            if name == "spnn_gate_sine":
-                example = "soft (a gate's name, or null)"
-            if name == "pnn_n_steps_sine":
-                example = "1 (an integer, or null)"
+            if name in NAMED_REFINEMENTS:
+                example = NAMED_REFINEMENTS[name]
+            if name in COUNTED_REFINEMENTS:
+                example = COUNTED_REFINEMENTS[name]
             raise ValueError(
                 f"--set {item!r} is not allowed: expected a value like {name}={example}"
             )

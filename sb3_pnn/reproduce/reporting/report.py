@@ -24,8 +24,10 @@ from sb3_pnn.reproduce.planning.plan import (
     AGENTS,
     EVAL_TASKS,
     PLANNING_ENVS,
+    PRIOR_ENVS,
     StudyConfig,
 )
+from sb3_pnn.reproduce.planning.setups import TrainingSetup
 from sb3_pnn.reproduce.reporting.figures import (
     GENERALIZATION,
     PAPER_SUCCESS,
@@ -528,18 +530,27 @@ def setup_text(config: StudyConfig) -> str:
     return f"{name} ({factors})"
 
 
-def _selection_text(results: StudyResults, candidates: int) -> str:
-    """Which candidate became each source column (``prior_candidates`` > 1), for the set-up."""
-    if candidates == 1:
+def _selection_text(results: StudyResults, setup: TrainingSetup) -> str:
+    """Which candidate became each source column (``prior_candidates`` > 1, or the straight
+    path-following column's ``prior_candidates_pf_straight``), for the set-up."""
+    counts = {name: setup.column_candidates(name) for name in PRIOR_ENVS}
+    if max(counts.values()) == 1:
         return ""
     chosen = [
         f"{r.spec.run_id} = {r.manifest['chosen']}"
         for r in sorted(results.select("select"), key=lambda r: r.spec.run_id)
         if "chosen" in r.manifest
     ]
-    return (
-        f", each column the best of {candidates} training runs on validation episodes of its own "
-        "task" + (f" ({', '.join(chosen)})" if chosen else "")
+    if len(set(counts.values())) == 1:
+        which = f"each column the best of {counts['oa']} training runs"
+    else:
+        which = ", ".join(
+            f"the {name} column the best of {k} training runs"
+            for name, k in counts.items()
+            if k > 1
+        )
+    return f", {which} on validation episodes of its own task" + (
+        f" ({', '.join(chosen)})" if chosen else ""
     )
 
 
@@ -558,7 +569,7 @@ def _setup_lines(
         if config.prior_per_seed
         else "one set (seed 0) shared by all seeds, so the intervals below cover the agents' "
         "training seeds, not the draw of these columns (`--prior-per-seed` trains a set per seed)"
-    ) + _selection_text(results, config.setup.prior_candidates)
+    ) + _selection_text(results, config.setup)
     seeds = sorted({r.spec.seed for r in results.runs.values() if r.spec.kind == "transfer"})
     return [
         "## Set-up",

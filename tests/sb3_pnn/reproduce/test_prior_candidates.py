@@ -54,6 +54,44 @@ def test_each_column_is_trained_k_times_and_the_transfer_runs_read_the_choice() 
     assert per_seed["spnn-straight-s1"].deps[1] == "prior-oa-best3-s1"
 
 
+def test_the_straight_path_following_column_alone_can_be_the_best_of_two() -> None:
+    """prior_candidates_pf_straight / prior_keep_best_by_pf_straight reach that column and the
+    learners of the straight path; every other run keeps its spec (and hash)."""
+    changes = (
+        ("prior_candidates_pf_straight", 2),
+        ("prior_keep_best_by_pf_straight", "discounted"),
+    )
+    plan = {s.run_id: s for s in build_plan(StudyConfig(seeds=2, setup_changes=changes))}
+    default = {s.run_id: s for s in build_plan(StudyConfig(seeds=2))}
+    for s in (1, 2, 3):  # set 1's candidates are seeds 2 and 3, ranked by the discounted return
+        assert plan[f"prior-pf_straight-s{s}"].validation["rank_by"] == "discounted"
+    assert plan["prior-pf_straight-best2-s1"].deps == (
+        "prior-pf_straight-s2",
+        "prior-pf_straight-s3",
+    )
+    assert plan["spnn-straight-s1"].deps == ("prior-pf_straight-best2-s1", "prior-oa-s1")
+    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best2-s0",)
+    assert plan["sac_multi-straight-s1"].deps == ("prior-pf_straight-best2-s1",)
+    reached = {i for i, spec in plan.items() if "straight" in i and spec.kind != "baseline"}
+    reached -= {"sac_single-straight-s0", "sac_single-straight-s1"}
+    for run_id, spec in plan.items():
+        if run_id not in reached:
+            assert spec.config_hash() == default[run_id].config_hash(), run_id
+    assert not [i for i in plan if "best2" in i and "pf_straight" not in i]
+    # None falls back to the other columns' values, so both refinements at 1 / "return" are
+    # the default study
+    same = OURS.with_(prior_candidates_pf_straight=1, prior_keep_best_by_pf_straight="return")
+    assert same.column_candidates("pf_straight") == 1
+    assert OURS.with_(prior_candidates=3).column_candidates("pf_straight") == 3
+    assert OURS.with_(prior_candidates_pf_straight=2).column_candidates("oa") == 1
+    with pytest.raises(ValueError, match="prior_candidates_pf_straight=2 is not allowed with keep"):
+        PAPER.with_(prior_candidates_pf_straight=2)
+    with pytest.raises(ValueError, match="prior_candidates_pf_straight=0 is not allowed: expected"):
+        OURS.with_(prior_candidates_pf_straight=0)
+    with pytest.raises(ValueError, match="prior_keep_best_by_pf_straight='gap' is not allowed"):
+        OURS.with_(prior_keep_best_by_pf_straight="gap")
+
+
 def test_candidates_need_validation_checks() -> None:
     with pytest.raises(ValueError, match="prior_candidates=3 is not allowed with keep_best off"):
         PAPER.with_(prior_candidates=3)
@@ -152,3 +190,22 @@ def test_tiny_real_study_with_two_candidates(tmp_path) -> None:
     copied = (out / "runs" / "prior-oa-best2-s0" / "model.zip").read_bytes()
     assert copied == (out / "runs" / chosen["chosen"] / "model.zip").read_bytes()
     assert (out / "runs" / "spnn-straight-s0" / "model.zip").is_file()
+
+
+def test_the_report_names_which_columns_were_chosen_among_candidates() -> None:
+    from types import SimpleNamespace
+
+    from sb3_pnn.reproduce.reporting.report import _selection_text
+
+    def run(run_id, chosen):
+        return SimpleNamespace(spec=SimpleNamespace(run_id=run_id), manifest={"chosen": chosen})
+
+    selects = [run("prior-pf_straight-best2-s0", "prior-pf_straight-s1")]
+    results = SimpleNamespace(select=lambda kind: selects if kind == "select" else [])
+    assert _selection_text(results, OURS) == ""
+    text = _selection_text(results, OURS.with_(prior_candidates_pf_straight=2))
+    assert text == (
+        ", the pf_straight column the best of 2 training runs on validation episodes of its own "
+        "task (prior-pf_straight-best2-s0 = prior-pf_straight-s1)"
+    )
+    assert "each column the best of 3" in _selection_text(results, OURS.with_(prior_candidates=3))
