@@ -373,22 +373,18 @@ class TrainingSetup:
                     f"{name}={gamma!r} is not allowed: expected a discount factor in (0, 1), "
                     f"or None for {fallback}"
                 )
-        sine_n = self.pnn_n_steps_sine
-        if sine_n is not None and (
-            isinstance(sine_n, bool) or not isinstance(sine_n, int) or sine_n < 1
+        for name, refined in (
+            ("pnn_n_steps_sine", "pnn_n_steps"),
+            ("prior_candidates_pf_straight", "prior_candidates"),
         ):
-            raise ValueError(
-                f"pnn_n_steps_sine={sine_n!r} is not allowed: expected an integer >= 1, or None "
-                "for pnn_n_steps's value"
-            )
-        straight_k = self.prior_candidates_pf_straight
-        if straight_k is not None and (
-            isinstance(straight_k, bool) or not isinstance(straight_k, int) or straight_k < 1
-        ):
-            raise ValueError(
-                f"prior_candidates_pf_straight={straight_k!r} is not allowed: expected an "
-                "integer >= 1, or None for prior_candidates's value"
-            )
+            value = getattr(self, name)
+            if value is not None and (
+                isinstance(value, bool) or not isinstance(value, int) or value < 1
+            ):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected an integer >= 1, or None "
+                    f"for {refined}'s value"
+                )
         for name in ("prior_candidates", "prior_candidates_pf_straight"):
             value = getattr(self, name)
             if value is not None and value > 1 and not self.keep_best:
@@ -796,21 +792,23 @@ class TrainingSetup:
             )
         return self.on_path(name, path), default
 
+    def _for_column(self, name: str, column: str) -> Any:
+        """Factor ``name``'s value for source column ``column``: its ``_pf_straight``
+        refinement for the straight path-following column where that is set."""
+        refined = getattr(self, f"{name}_pf_straight") if column == "pf_straight" else None
+        return getattr(self, name) if refined is None else refined
+
     def column_candidates(self, column: str) -> int:
         """How many training runs source column ``column`` (``pf_straight``, ``pf_sine`` or
         ``oa``) is the best of: ``prior_candidates``, or ``prior_candidates_pf_straight`` for
         the straight path-following column where that is set."""
-        if column == "pf_straight" and self.prior_candidates_pf_straight is not None:
-            return self.prior_candidates_pf_straight
-        return self.prior_candidates
+        return int(self._for_column("prior_candidates", column))
 
     def column_keep_best_by(self, column: str) -> str:
         """What ranks the validation checks (and the candidates) of source column ``column``:
         ``prior_keep_best_by``, or ``prior_keep_best_by_pf_straight`` for the straight
         path-following column where that is set."""
-        if column == "pf_straight" and self.prior_keep_best_by_pf_straight is not None:
-            return self.prior_keep_best_by_pf_straight
-        return self.prior_keep_best_by
+        return str(self._for_column("prior_keep_best_by", column))
 
     def validation(self, learner: bool = False, column: str = "") -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
