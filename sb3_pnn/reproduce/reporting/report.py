@@ -542,7 +542,8 @@ def _selection_text(results: StudyResults, setup: TrainingSetup) -> str:
         if "chosen" in r.manifest
     ]
     if len(set(counts.values())) == 1:
-        which = f"each column the best of {counts['oa']} training runs"
+        (k,) = set(counts.values())
+        which = f"each column the best of {k} training runs"
     else:
         which = ", ".join(
             f"the {name} column the best of {k} training runs"
