@@ -239,6 +239,45 @@ def validation_table(results: StudyResults) -> list[str]:
     return lines
 
 
+#: A source column whose kept policy passes less of its own task than this is named in the
+#: report: its learners read a prior that does not do the task it stands for.
+WEAK_COLUMN = 0.5
+
+
+def columns_table(results: StudyResults) -> list[str]:
+    """The source columns the learners read (each candidate set's kept column where columns are
+    the best of several runs), on their own task's evaluation episodes, per column set; and a
+    line for each column below :data:`WEAK_COLUMN`. A seed's column can fail its task while
+    its training runs to the end, and its learners then start from a prior that does not do
+    the task it stands for: the learners' results of that seed are read with it."""
+    rows, weak = [], []
+    for name, env_id in PRIOR_ENVS.items():
+        runs = [r for r in results.select("select") if r.spec.env_id == env_id] or [
+            r for r in results.select("prior") if r.spec.env_id == env_id
+        ]
+        rates = [(r, r.evals["own"]["success_rate"]) for r in runs if "own" in r.evals]
+        if not rates:
+            continue
+        rows.append(f"| {name} | {_mean_and_seeds([rate for _, rate in rates])} |")
+        weak += [
+            f"- `{r.spec.run_id}` passes {100 * rate:.0f} % of its own task: the learners that "
+            f"read column set {r.spec.seed} start from a prior that does not do it."
+            for r, rate in rates
+            if rate < WEAK_COLUMN
+        ]
+    if not rows:
+        return []
+    return [
+        "Source columns on their own tasks (evaluation episodes; mean, and each column set's "
+        "in order):",
+        "",
+        "| column | success |",
+        "|---|---|",
+        *rows,
+        *([""] + weak if weak else []),
+    ]
+
+
 def route_table(results: StudyResults) -> list[str]:
     """Mean |g| and |a_c| per policy and task (means over seeds of the evaluation means)."""
     lines = [
@@ -661,6 +700,7 @@ def write_report(
     speed_lines, speed = learning_speed(results)
     smoke = config.budget_name in SMOKE_BUDGETS
     checks = validation_table(results)
+    columns = columns_table(results)
     lines = [
         *_title_lines(config),
         *_setup_lines(results, config, sessions, Path(path).parent),
@@ -673,6 +713,8 @@ def write_report(
         "",
         *checks,
         *([""] if checks else []),
+        *columns,
+        *([""] if columns else []),
         "## Learning speed (Figure 10)",
         "",
         *speed_lines,
