@@ -176,6 +176,10 @@ Factors:
   says nothing of how its columns were chosen). A column is trained once and read by every
   transfer run, and one draw of it decides much of what they do; keeping the best of k on the
   source task's own validation episodes removes a poor draw at the cost of k - 1 more runs.
+* ``prior_retries``: a source column none of whose validation checks passes a single episode
+  is trained again from another seed (``seed + 1000 * i``), up to this many times; a column
+  that passed a check is kept as it is. 0: never (a column that never reaches its target in
+  training is the prior of its seed's learners all the same; the study's report names it).
 * ``planning_layout``: the obstacles the planning agents train on: ``"fixed"``, the paper's
   (section 4.3.3: trained on the original tasks only), or ``"scatter"`` (drawn afresh every
   training episode around the route; beyond the paper, reported apart). Evaluation always runs
@@ -334,6 +338,7 @@ class TrainingSetup:
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     prior_candidates_pf_straight: int | None = None
+    prior_retries: int = 0
     planning_layout: str = "fixed"
     planning_obstacle_penalty: float = 1.0
     sonar_span: float = 180.0
@@ -352,6 +357,7 @@ class TrainingSetup:
             ("batch_size", 1),
             ("prior_batch_size", 0),
             ("prior_candidates", 1),
+            ("prior_retries", 0),
             ("keep_best_drawn", 0),
             ("spnn_n_steps", 1),
             ("pnn_n_steps", 1),
@@ -385,6 +391,11 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected an integer >= 1, or None "
                     f"for {refined}'s value"
                 )
+        if self.prior_retries and not self.keep_best:
+            raise ValueError(
+                f"prior_retries={self.prior_retries} is not allowed with keep_best off: a column "
+                "is trained again when none of its validation checks passes (keep_best=true)"
+            )
         for name in ("prior_candidates", "prior_candidates_pf_straight"):
             value = getattr(self, name)
             if value is not None and value > 1 and not self.keep_best:
@@ -815,7 +826,7 @@ class TrainingSetup:
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
         and rank by ``keep_best_by``, source column ``column``'s by :meth:`column_keep_best_by`
         (named only when it is not the return, so that the specs of runs ranked by return keep
-        their hash)."""
+        their hash); a source column's add ``retries`` where ``prior_retries`` is not 0."""
         if not self.keep_best:
             return {}
         checks: dict[str, int | str] = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
@@ -824,6 +835,8 @@ class TrainingSetup:
         rank_by = self.keep_best_by if learner else self.column_keep_best_by(column)
         if rank_by != "return":
             checks["rank_by"] = rank_by
+        if not learner and self.prior_retries:
+            checks["retries"] = self.prior_retries
         return checks
 
     def to_dict(self) -> dict[str, Any]:
@@ -1011,6 +1024,7 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
     "prior_candidates_pf_straight": "straight path-following column: best of this many runs",
+    "prior_retries": "source column trained again from another seed when no check passes (times)",
     "prior_keep_best_by_pf_straight": "straight path-following column's checks ranked by",
     "planning_layout": "obstacles the planning agents train on",
     "planning_obstacle_penalty": "weight of eq. 20's r_v in the learners' planning tasks",

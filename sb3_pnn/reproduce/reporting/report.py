@@ -247,7 +247,8 @@ WEAK_COLUMN = 0.5
 def columns_table(results: StudyResults) -> list[str]:
     """The source columns the learners read (each candidate set's kept column where columns are
     the best of several runs), on their own task's evaluation episodes, per column set; and a
-    line for each column below :data:`WEAK_COLUMN`. A seed's column can fail its task while
+    line for each column below :data:`WEAK_COLUMN` and for each column trained again
+    (``prior_retries``). A seed's column can fail its task while
     its training runs to the end, and its learners then start from a prior that does not do
     the task it stands for: the learners' results of that seed are read with it."""
     rows, weak = [], []
@@ -261,9 +262,17 @@ def columns_table(results: StudyResults) -> list[str]:
         rows.append(f"| {name} | {_mean_and_seeds([rate for _, rate in rates])} |")
         weak += [
             f"- `{r.spec.run_id}` passes {100 * rate:.0f} % of its own task: the learners that "
-            f"read column set {r.spec.seed} start from a prior that does not do it."
+            f"read column set {r.spec.seed} start from a prior that does not do it "
+            "(`--set prior_retries=1` trains a column that passes no validation check again)."
             for r, rate in rates
             if rate < WEAK_COLUMN
+        ]
+        weak += [
+            f"- `{r.spec.run_id}` was trained {len(tried)} times (seeds "
+            + ", ".join(str(a["seed"]) for a in tried)
+            + "): an attempt that passes no validation check is trained again (prior_retries)."
+            for r, _ in rates
+            if len(tried := r.manifest.get("attempts", [])) > 1
         ]
     if not rows:
         return []

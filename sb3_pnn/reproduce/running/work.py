@@ -22,6 +22,7 @@ It writes into the run's temporary folder:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import shutil
@@ -119,7 +120,52 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
     }
     if keeper is not None:
         info["kept_episode"] = keeper.best_episode
+        kept = [c for c in keeper.history if c["episode"] == keeper.best_episode]
+        info["kept_success"] = kept[0]["success_rate"] if kept else None
     return model, info
+
+
+#: A retried source column trains from seed ``seed + RETRY_SEED_STEP * attempt``: apart from
+#: every study's training seeds (0.., and k * set + j for candidates).
+RETRY_SEED_STEP = 1000
+#: The files of one training attempt that become the run's.
+_ATTEMPT_FILES = ("model.zip", "validation.json", "episodes.json", "trajectories.npz")
+
+
+def train_with_retries(
+    spec: RunSpec, tmp: Path, deps: dict[str, Path]
+) -> tuple[Any, dict[str, Any]]:
+    """:func:`train`, and for a source column with ``spec.validation["retries"]`` = r > 0, train
+    it again from seed ``spec.seed + RETRY_SEED_STEP * i`` (i = 1..r) while no validation check
+    of the last attempt passed a single episode. A column that never reaches its target in
+    training (one sinusoid column in ten collapses to turning away within seconds, every episode
+    ending by the heading rule) gives every learner that reads it a prior that does not do its
+    task; a column that passed a check is kept as it is, so only failed draws change. The run
+    keeps the attempt of the best kept check (the first of equals); the manifest lists every
+    attempt's seed and kept success."""
+    retries = int(spec.validation.get("retries", 0)) if spec.validation else 0
+    if not retries:
+        return train(spec, tmp, deps)
+    from sb3_pnn.common.callbacks import validation_rank
+
+    attempts: list[tuple[Path, Any, dict[str, Any], tuple[float, ...], int]] = []
+    for attempt in range(retries + 1):
+        seed = spec.seed + RETRY_SEED_STEP * attempt
+        folder = tmp / f"attempt-{attempt}"
+        folder.mkdir()
+        model, info = train(dataclasses.replace(spec, seed=seed), folder, deps)
+        kept = kept_check(folder)
+        rank = validation_rank(*kept) if kept else (-math.inf,)
+        attempts.append((folder, model, info, rank, seed))
+        if kept and kept[0]["success_rate"] > 0:
+            break
+    folder, model, info, _, _ = max(attempts, key=lambda a: a[3])  # max keeps the first of equals
+    for name in _ATTEMPT_FILES:
+        shutil.move(folder / name, tmp / name)
+    for a in attempts:
+        shutil.rmtree(a[0])
+    tried = [{"seed": a[4], "kept_success": a[2].get("kept_success")} for a in attempts]
+    return model, dict(info, attempts=tried)
 
 
 def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:
@@ -200,7 +246,7 @@ def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
     if spec.kind == "baseline":
         info.update(evaluate(spec, spec.agent, tmp))
         return info
-    model, train_info = train(spec, tmp, deps)
+    model, train_info = train_with_retries(spec, tmp, deps)
     info.update(train_info)
     if spec.eval_tasks:
         info.update(evaluate(spec, model, tmp))

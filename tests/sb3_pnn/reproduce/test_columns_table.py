@@ -7,10 +7,12 @@ from sb3_pnn.reproduce.reporting.report import columns_table
 from sb3_pnn.reproduce.running.results import RunResult, StudyResults
 
 
-def _column(name: str, seed: int, rate: float, kind: str = "prior") -> RunResult:
+def _column(
+    name: str, seed: int, rate: float, kind: str = "prior", manifest: dict | None = None
+) -> RunResult:
     run_id = f"prior-{name}-s{seed}" if kind == "prior" else f"prior-{name}-best2-s{seed}"
     spec = RunSpec(run_id, kind, "dsac", None, PRIOR_ENVS[name], seed, 10)
-    return RunResult(spec=spec, manifest={}, evals={"own": {"success_rate": rate}})
+    return RunResult(spec=spec, manifest=manifest or {}, evals={"own": {"success_rate": rate}})
 
 
 def _results(*runs: RunResult) -> StudyResults:
@@ -45,6 +47,16 @@ def test_the_kept_candidate_is_what_the_learners_read() -> None:
     )
     assert "| pf_sine | 100 % (100) |" in lines
     assert not any(line.startswith("- ") for line in lines)
+
+
+def test_a_column_trained_again_is_named_with_its_seeds() -> None:
+    attempts = [{"seed": 6, "kept_success": 0.0}, {"seed": 1006, "kept_success": 1.0}]
+    lines = columns_table(_results(_column("pf_sine", 6, 1.0, manifest={"attempts": attempts})))
+    named = [line for line in lines if line.startswith("- ")]
+    assert named == [
+        "- `prior-pf_sine-s6` was trained 2 times (seeds 6, 1006): an attempt that passes no "
+        "validation check is trained again (prior_retries)."
+    ]
 
 
 def test_no_columns_no_table() -> None:
