@@ -137,10 +137,10 @@ def train_with_retries(
 ) -> tuple[Any, dict[str, Any]]:
     """:func:`train`, and for a source column with ``spec.validation["retries"]`` = r > 0, train
     it again from seed ``spec.seed + RETRY_SEED_STEP * i`` (i = 1..r) while no validation check
-    of the last attempt passed a single episode. A column that never reaches its target in
-    training (one sinusoid column in ten collapses to turning away within seconds, every episode
-    ending by the heading rule) gives every learner that reads it a prior that does not do its
-    task; a column that passed a check is kept as it is, so only failed draws change. The run
+    of the last attempt passed a single episode. A column can collapse early to a policy that
+    turns away within seconds, every episode ending by the heading rule, and never reach its
+    target; it then gives every learner that reads it a prior that does not do its task. A
+    column that passed a check is kept as it is, so only failed draws change. The run
     keeps the attempt of the best kept check (the first of equals); the manifest lists every
     attempt's seed and kept success."""
     retries = int(spec.validation.get("retries", 0)) if spec.validation else 0
