@@ -120,16 +120,12 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
     }
     if keeper is not None:
         info["kept_episode"] = keeper.best_episode
-        kept = [c for c in keeper.history if c["episode"] == keeper.best_episode]
-        info["kept_success"] = kept[0]["success_rate"] if kept else None
     return model, info
 
 
 #: A retried source column trains from seed ``seed + RETRY_SEED_STEP * attempt``: apart from
 #: every study's training seeds (0.., and k * set + j for candidates).
 RETRY_SEED_STEP = 1000
-#: The files of one training attempt that become the run's.
-_ATTEMPT_FILES = ("model.zip", "validation.json", "episodes.json", "trajectories.npz")
 
 
 def train_with_retries(
@@ -148,24 +144,29 @@ def train_with_retries(
         return train(spec, tmp, deps)
     from sb3_pnn.common.callbacks import validation_rank
 
-    attempts: list[tuple[Path, Any, dict[str, Any], tuple[float, ...], int]] = []
+    attempts: list[dict[str, Any]] = []
     for attempt in range(retries + 1):
         seed = spec.seed + RETRY_SEED_STEP * attempt
         folder = tmp / f"attempt-{attempt}"
         folder.mkdir()
         model, info = train(dataclasses.replace(spec, seed=seed), folder, deps)
         kept = kept_check(folder)
-        rank = validation_rank(*kept) if kept else (-math.inf,)
-        attempts.append((folder, model, info, rank, seed))
+        attempts.append(dict(folder=folder, model=model, info=info, kept=kept, seed=seed))
         if kept and kept[0]["success_rate"] > 0:
             break
-    folder, model, info, _, _ = max(attempts, key=lambda a: a[3])  # max keeps the first of equals
-    for name in _ATTEMPT_FILES:
-        shutil.move(folder / name, tmp / name)
+    unranked = (-math.inf,)
+    best = max(  # max keeps the first of equals
+        attempts, key=lambda a: validation_rank(*a["kept"]) if a["kept"] else unranked
+    )
+    for path in best["folder"].iterdir():  # the kept attempt's records become the run's
+        shutil.move(path, tmp / path.name)
     for a in attempts:
-        shutil.rmtree(a[0])
-    tried = [{"seed": a[4], "kept_success": a[2].get("kept_success")} for a in attempts]
-    return model, dict(info, attempts=tried)
+        shutil.rmtree(a["folder"])
+    tried = [
+        {"seed": a["seed"], "kept_success": a["kept"][0]["success_rate"] if a["kept"] else None}
+        for a in attempts
+    ]
+    return best["model"], dict(best["info"], attempts=tried)
 
 
 def evaluate(spec: RunSpec, policy: Any, tmp: Path) -> dict[str, Any]:

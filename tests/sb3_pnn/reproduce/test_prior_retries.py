@@ -49,7 +49,7 @@ def _fake_train(successes: dict[int, float], trained: list[int]):
         (tmp / "validation.json").write_text(json.dumps({"history": [check], "best_episode": 25}))
         for name in ("model.zip", "episodes.json", "trajectories.npz"):
             (tmp / name).write_text(f"{name} of seed {spec.seed}")
-        return f"model {spec.seed}", {"kept_success": successes[spec.seed]}
+        return f"model {spec.seed}", {"kept_episode": 25}
 
     return fake
 
