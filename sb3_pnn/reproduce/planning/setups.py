@@ -119,6 +119,9 @@ Factors:
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
   ``pnn_n_steps_sine`` gives PNN's runs on the sine path their own n (None: ``pnn_n_steps``).
+* ``pf_n_steps``: the same return length n for the two path-following source columns (not the
+  avoidance column, not the learners). Eq. 18/19 pay for coming back to the path only after a
+  turn and its counter-turn; an n-step return carries that pair's reward into one target.
 * ``spnn_action_smoothness``, ``pnn_action_smoothness``: weight lambda of the temporal
   smoothness term lambda * E[KL(pi(.|s_t) || pi(.|s_t+1))] in the actor's loss (CAPS, Mysore
   et al. 2021; ``action_smoothness`` of :class:`sb3_pnn.ProgressivePolicy`): it discourages
@@ -180,6 +183,12 @@ Factors:
   is trained again from another seed (``seed + 1000 * i``), up to this many times; a column
   that passed a check is kept as it is. 0: never (a column that never reaches its target in
   training is the prior of its seed's learners all the same; the study's report names it).
+* ``pf_validation_every``: training episodes between two validation checks of the two
+  path-following columns (the avoidance column and the learners check every
+  ``VALIDATION_EVERY``). A column's route swings from check to check (the same run can keep
+  its path within 0.1 m at one check and 4 m at a later one); checks are cheap (a batch of
+  episodes without updates), and a finer grid keeps a column nearer its best moment. Model
+  selection only: training is unchanged.
 * ``planning_layout``: the obstacles the planning agents train on: ``"fixed"``, the paper's
   (section 4.3.3: trained on the original tasks only), or ``"scatter"`` (drawn afresh every
   training episode around the route; beyond the paper, reported apart). Evaluation always runs
@@ -322,6 +331,8 @@ class TrainingSetup:
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
     pnn_n_steps_sine: int | None = None
+    pf_n_steps: int = 1
+    pf_validation_every: int = VALIDATION_EVERY
     spnn_action_smoothness: float = 0.0
     pnn_action_smoothness: float = 0.0
     exploration_epsilon: float = 0.0
@@ -361,6 +372,8 @@ class TrainingSetup:
             ("keep_best_drawn", 0),
             ("spnn_n_steps", 1),
             ("pnn_n_steps", 1),
+            ("pf_n_steps", 1),
+            ("pf_validation_every", 1),
             ("sonar_sectors", 1),
         ):
             value = getattr(self, name)
@@ -673,7 +686,8 @@ class TrainingSetup:
     ) -> dict[str, Any]:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``; for
-        ``column="oa"``, the avoidance column, ``oa_updates`` and ``oa_gamma`` where set);
+        ``column="oa"``, the avoidance column, ``oa_updates`` and ``oa_gamma`` where set; for the
+        path-following columns ``pf_straight`` / ``pf_sine``, ``pf_n_steps``);
         ``agent="pnn"`` adds PNN's ``lateral_scale_init``, ``pnn_gamma`` and, on planning path
         ``path`` (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
         ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight``, ``start_as_prior`` and
@@ -719,6 +733,8 @@ class TrainingSetup:
             kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
+        if prior and column.startswith("pf_"):
+            n_steps = self.pf_n_steps
         if n_steps != 1:  # named only off one-step targets, so earlier runs keep their hash
             kwargs["n_steps"] = n_steps
         gate = self.spnn_gate_of(path) if agent == "spnn" else "hard"
@@ -826,10 +842,12 @@ class TrainingSetup:
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
         and rank by ``keep_best_by``, source column ``column``'s by :meth:`column_keep_best_by`
         (named only when it is not the return, so that the specs of runs ranked by return keep
-        their hash); a source column's add ``retries`` where ``prior_retries`` is not 0."""
+        their hash); a source column's add ``retries`` where ``prior_retries`` is not 0; the
+        path-following columns check every ``pf_validation_every`` episodes."""
         if not self.keep_best:
             return {}
-        checks: dict[str, int | str] = {"every": VALIDATION_EVERY, "episodes": VALIDATION_EPISODES}
+        every = self.pf_validation_every if column.startswith("pf_") else VALIDATION_EVERY
+        checks: dict[str, int | str] = {"every": every, "episodes": VALIDATION_EPISODES}
         if learner and self.keep_best_drawn:
             checks["drawn_episodes"] = self.keep_best_drawn
         rank_by = self.keep_best_by if learner else self.column_keep_best_by(column)
@@ -1004,6 +1022,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",
+    "pf_n_steps": "path-following columns' critics' return length n (n-step targets)",
+    "pf_validation_every": "path-following columns' training episodes between validation checks",
     "spnn_action_smoothness": "SPNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "pnn_action_smoothness": "PNN actor loss + lambda KL(pi(.|s) || pi(.|s'))",
     "exploration_epsilon": "learners: uniform action with probability epsilon in training",

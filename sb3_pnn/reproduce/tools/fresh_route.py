@@ -7,6 +7,8 @@ evaluation seeds (10000+): a route measure that nothing was chosen on. It prints
 success, mean abs(g), mean abs(a_c) and mean time to the target of both tasks, and their means
 over the runs. ``--against BASE`` prints a second study's runs of the same seeds beside them and
 the relative change of the mean abs(g) (the route rules of docs/ablation sections 22-32).
+``--agent pf_column`` measures the path's path-following source column instead, on its own
+task (the column's ``"own"`` evaluation task: the path without obstacles) on the same seeds.
 
 Usage: python -m sb3_pnn.reproduce.tools.fresh_route STUDY --agent spnn --path straight
     [--seeds 0 1 2] [--episodes 50] [--against BASE_STUDY]
@@ -31,12 +33,31 @@ from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model
 FRESH_SEED = 40_000
 #: The run's evaluation tasks that are replayed: its own planning task, the path alone.
 TASKS = ("original", "path_following")
+#: ``--agent`` value for the path's path-following source column (its runs ``prior-pf_PATH-sN``),
+#: replayed on its own evaluation task alone.
+PF_COLUMN = "pf_column"
+COLUMN_TASKS = ("own",)
 
 
-def route(parser: argparse.ArgumentParser, run: Path, episodes: int) -> dict[str, dict]:
-    """Per task of :data:`TASKS`: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to
-    the target (s; None without a success) of the run's kept policy on seeds 40000+."""
-    evaluated = {task: run_eval_task(parser, run, task) for task in TASKS}
+def tasks_of(agent: str) -> tuple[str, ...]:
+    """The evaluation tasks replayed for ``--agent agent``."""
+    return COLUMN_TASKS if agent == PF_COLUMN else TASKS
+
+
+def folders(study: Path, agent: str, path: str, seeds: list[int] | None) -> list[tuple[int, Path]]:
+    """``(seed, folder)`` of the study's runs of ``agent`` on ``path`` (:func:`run_folders`;
+    for :data:`PF_COLUMN`, the path's path-following columns)."""
+    if agent == PF_COLUMN:
+        return run_folders(study, "prior", f"pf_{path}", seeds)
+    return run_folders(study, agent, path, seeds)
+
+
+def route(
+    parser: argparse.ArgumentParser, run: Path, episodes: int, tasks: tuple[str, ...] = TASKS
+) -> dict[str, dict]:
+    """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
+    target (s; None without a success) of the run's kept policy on seeds 40000+."""
+    evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
     model = run_model(parser, run)
     policy = json.loads((run / "manifest.json").read_text())["agent"] if model is None else model
     out = {}
@@ -58,14 +79,14 @@ def cells(measure: dict[str, dict]) -> list[str]:
     return [
         f"{100 * m['success']:.0f} %, {m['g']:.2f} m, {m['ac']:.1f} deg, "
         + ("-" if m["time"] is None else f"{m['time']:.0f} s")
-        for m in (measure[task] for task in TASKS)
+        for m in measure.values()
     ]
 
 
 def means(measures: list[dict[str, dict]]) -> dict[str, dict]:
     """The mean over runs of every figure of :func:`route` (times over the runs that have one)."""
     out = {}
-    for task in TASKS:
+    for task in measures[0]:
         rows = [m[task] for m in measures]
         times = [r["time"] for r in rows if r["time"] is not None]
         out[task] = {key: float(np.mean([r[key] for r in rows])) for key in ("success", "g", "ac")}
@@ -76,30 +97,37 @@ def means(measures: list[dict[str, dict]]) -> dict[str, dict]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("study", type=Path)
-    parser.add_argument("--agent", default="spnn", help="a learner or a PID baseline")
+    parser.add_argument(
+        "--agent",
+        default="spnn",
+        help=f"a learner, a PID baseline or {PF_COLUMN} (the path's path-following column)",
+    )
     parser.add_argument("--path", choices=["straight", "sine"], default="straight")
     parser.add_argument("--seeds", type=int, nargs="*", default=None)
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
     parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
     args = parser.parse_args(argv)
     th.set_num_threads(1)
-    runs = run_folders(args.study, args.agent, args.path, args.seeds)
+    runs = folders(args.study, args.agent, args.path, args.seeds)
     if not runs or not runs[0][1].is_dir():
         parser.error(
             f"{args.study / 'runs'} holds no run of --agent {args.agent!r} on the {args.path} "
-            f"path: expected a study folder and a learner or one of {list(BASELINE_NAMES)}"
+            f"path: expected a study folder and a learner, {PF_COLUMN} or one of "
+            f"{list(BASELINE_NAMES)}"
         )
+    tasks = tasks_of(args.agent)
+    names = {"original": "own task", "path_following": "no obstacles", "own": "own task"}
     studies = [args.study] if args.against is None else [args.against, args.study]
     header = ["seed"]
     for study in studies:
-        header += [f"{study}: own task", f"{study}: no obstacles"]
+        header += [f"{study}: {names[task]}" for task in tasks]
     print("| " + " | ".join(header) + " |\n|" + "---|" * len(header))
     measured: list[list[dict]] = [[] for _ in studies]
     for seed, _ in runs:
         row = [str(seed)]
         for i, study in enumerate(studies):
-            run = run_folders(study, args.agent, args.path, [seed])[0][1]
-            measured[i].append(route(parser, run, args.episodes))
+            run = folders(study, args.agent, args.path, [seed])[0][1]
+            measured[i].append(route(parser, run, args.episodes, tasks))
             row += cells(measured[i][-1])
         print("| " + " | ".join(row) + " |")
     summary = [means(m) for m in measured]
@@ -110,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         print(
             "mean abs(g) change: "
             + ", ".join(
-                f"{task} {100 * (arm[task]['g'] / base[task]['g'] - 1):+.0f} %" for task in TASKS
+                f"{task} {100 * (arm[task]['g'] / base[task]['g'] - 1):+.0f} %" for task in tasks
             )
         )
     return 0

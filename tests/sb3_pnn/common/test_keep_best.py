@@ -89,6 +89,21 @@ def test_restore_brings_back_the_weights_of_the_best_check(monkeypatch) -> None:
     assert keeper.to_dict()["history"][1]["mean_return"] == -1.0
 
 
+def test_the_checks_grid_leaves_training_unchanged() -> None:
+    """Checking every episode or every third trains the same weights (checks read the policy
+    and draw nothing from the training's random streams), and the checks they share agree:
+    a finer grid (``pf_validation_every``) only selects among more moments of one run."""
+    runs = {}
+    for every in (1, 3):
+        model = _model()
+        keeper = KeepBestOnValidation(ENV, every=every, n_episodes=2, restore_at_end=False)
+        model.learn(600, callback=keeper)
+        runs[every] = (model.policy.state_dict(), {h["episode"]: h for h in keeper.history})
+    (fine_weights, fine), (coarse_weights, coarse) = runs[1], runs[3]
+    assert all(th.equal(fine_weights[k], coarse_weights[k]) for k in fine_weights)
+    assert coarse and all(coarse[e] == fine[e] for e in coarse)
+
+
 def test_checks_every_n_episodes_during_learn() -> None:
     model = _model()
     keeper = KeepBestOnValidation(ENV, every=1, n_episodes=2)

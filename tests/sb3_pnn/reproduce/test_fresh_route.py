@@ -47,3 +47,19 @@ def test_a_study_without_the_run_is_a_usage_error(tmp_path, capsys) -> None:
         main([str(tmp_path), "--agent", "spnn", "--seeds", "0"])
     assert stop.value.code == 2
     assert "holds no run of --agent 'spnn' on the straight path" in capsys.readouterr().err
+
+
+def test_pf_column_replays_the_path_following_column_on_its_own_task(tmp_path, capsys) -> None:
+    """--agent pf_column reads the runs prior-pf_PATH-sN and replays only their "own" task."""
+    run = tmp_path / "runs" / "prior-pf_sine-s3"
+    run.mkdir(parents=True)
+    (run / "manifest.json").write_text(json.dumps({"agent": "adaptive_pid"}))
+    own = {"env_id": "rov_envs/PathFollowingSine-v0", "env_kwargs": {}}
+    (run / "eval.json").write_text(json.dumps({"own": own}))
+    argv = [str(tmp_path), "--agent", "pf_column", "--path", "sine", "--episodes", "2"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    expected = evaluate_policy_on_task("adaptive_pid", "PathFollowingSine-v0", 2, seed=FRESH_SEED)
+    assert lines[0] == f"| seed | {tmp_path}: own task |"
+    assert lines[2].startswith(f"| 3 | 100 %, {expected.mean_abs_cross_track:.2f} m")
+    assert lines[2].count("|") == 3

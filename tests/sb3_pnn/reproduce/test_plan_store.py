@@ -309,6 +309,38 @@ def test_n_step_targets_reach_only_their_agents_runs() -> None:
     assert {s.sac_kwargs.get("n_steps") for s in plan(1, 3).values() if s.agent == "pnn"} == {3}
 
 
+def test_pf_n_steps_reaches_only_the_path_following_columns() -> None:
+    """pf_n_steps: DiscreteSAC's n_steps of the two path-following columns' runs, named only
+    when it is not 1; the avoidance column and every learner keep their spec and hash."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pf_n_steps", 8),))
+    changed = set()
+    for spec in build_plan(config):
+        column = spec.run_id.startswith("prior-pf_")
+        assert spec.sac_kwargs.get("n_steps") == (
+            8 if column else plain[spec.run_id].sac_kwargs.get("n_steps")
+        )
+        if spec.config_hash() != plain[spec.run_id].config_hash():
+            changed.add(spec.run_id)
+    assert changed == {"prior-pf_straight-s0", "prior-pf_sine-s0"}
+    with pytest.raises(ValueError, match=r"pf_n_steps=0 is not allowed: expected an integer >= 1"):
+        OURS.with_(pf_n_steps=0)
+
+
+def test_pf_validation_every_reaches_only_the_path_following_columns_checks() -> None:
+    """pf_validation_every: the path-following columns validate every N episodes; the
+    avoidance column and the learners keep the default grid, spec and hash."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pf_validation_every", 5),))
+    for spec in build_plan(config):
+        column = spec.run_id.startswith("prior-pf_")
+        expected = 5 if column else plain[spec.run_id].validation.get("every")
+        assert spec.validation.get("every") == expected, spec.run_id
+        assert (spec.config_hash() != plain[spec.run_id].config_hash()) == column
+    with pytest.raises(ValueError, match=r"pf_validation_every=0 is not allowed: expected an"):
+        OURS.with_(pf_validation_every=0)
+
+
 def test_pnn_n_steps_sine_replaces_pnn_n_steps_on_the_sine_path_only() -> None:
     """pnn_n_steps_sine: PNN's n on the sine path; its straight-path runs keep pnn_n_steps,
     and a sine-path n of 1 leaves those runs' specs as one-step targets make them."""
