@@ -37,6 +37,8 @@ TASKS = ("original", "path_following")
 #: replayed on its own evaluation task alone.
 PF_COLUMN = "pf_column"
 COLUMN_TASKS = ("own",)
+#: The table's heading of each replayed task.
+TASK_HEADERS = {"original": "own task", "path_following": "no obstacles", "own": "own task"}
 
 
 def tasks_of(agent: str) -> tuple[str, ...]:
@@ -116,11 +118,10 @@ def main(argv: list[str] | None = None) -> int:
             f"{list(BASELINE_NAMES)}"
         )
     tasks = tasks_of(args.agent)
-    names = {"original": "own task", "path_following": "no obstacles", "own": "own task"}
     studies = [args.study] if args.against is None else [args.against, args.study]
     header = ["seed"]
     for study in studies:
-        header += [f"{study}: {names[task]}" for task in tasks]
+        header += [f"{study}: {TASK_HEADERS[task]}" for task in tasks]
     print("| " + " | ".join(header) + " |\n|" + "---|" * len(header))
     measured: list[list[dict]] = [[] for _ in studies]
     for seed, _ in runs:
