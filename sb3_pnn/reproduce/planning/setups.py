@@ -52,6 +52,8 @@ Factors:
   the path whether the vehicle advances or not, so with gamma = 0.99 staying put in front of an
   obstacle is worth more than passing it (measured: agents loiter to the time limit).
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
+  ``pnn_net_arch``: those of PNN's new column alone (empty: ``net_arch``'s); its frozen prior
+  keeps its own, and eq. 13's lateral adapters map the prior's widths to the new column's.
 * ``target_entropy_ratio``: the entropy the temperature alpha is tuned toward, as a fraction of
   the uniform policy's log|A| (the paper gives only alpha's initial value, 0.2, Table 3).
   ``learner_target_entropy_ratio`` gives the four learners' runs their own fraction (None:
@@ -303,6 +305,7 @@ class TrainingSetup:
     success_reward: float = 0.0
     progress_weighted: bool = False
     net_arch: tuple[int, ...] = (255, 255)
+    pnn_net_arch: tuple[int, ...] = ()
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
     learner_target_entropy_ratio: float | None = None
     keep_best: bool = False
@@ -533,6 +536,12 @@ class TrainingSetup:
         if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
             raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
         object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
+        if any(int(w) < 1 for w in self.pnn_net_arch):
+            raise ValueError(
+                f"pnn_net_arch={self.pnn_net_arch!r} is not allowed: expected widths >= 1, or "
+                "[] for net_arch's"
+            )
+        object.__setattr__(self, "pnn_net_arch", tuple(int(w) for w in self.pnn_net_arch))
         from rov_envs.sim.layouts import LAYOUT_CODES
 
         if self.oa_layout not in LAYOUT_CODES:
@@ -702,6 +711,8 @@ class TrainingSetup:
             "gradient_steps": gradient_steps,
             "policy_kwargs": {"net_arch": list(self.net_arch)},
         }
+        if agent == "pnn" and not prior and self.pnn_net_arch:  # named only when set (hashes)
+            kwargs["policy_kwargs"]["net_arch"] = list(self.pnn_net_arch)
         gamma = self.oa_gamma if prior and column == "oa" else None
         if not prior and agent in ("spnn", "pnn"):
             gamma = self.spnn_gamma if agent == "spnn" else self.pnn_gamma_of(path)
@@ -997,6 +1008,7 @@ FACTOR_LABELS: dict[str, str] = {
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
     "net_arch": "hidden layers",
+    "pnn_net_arch": "hidden layers of PNN's new column",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
     "learner_target_entropy_ratio": "learners' target entropy / ln(number of actions)",
     "keep_best": "best policy on validation episodes kept",
@@ -1094,7 +1106,9 @@ def describe_value(name: str, value: Any) -> str:
         return "the target point" if value is None else f"{value:g} m ahead"
     if name == "heading_rule":
         return {"path": "the path's a_c (LOS)", "goal": "the goal's bearing"}.get(value, value)
-    if name == "net_arch":
+    if name == "pnn_net_arch" and not value:
+        return "as the hidden layers"
+    if name in ("net_arch", "pnn_net_arch"):
         return "[" + ", ".join(str(w) for w in value) + "]"
     if name in PER_PATH_FACTORS:
         return {"both": "on", "neither": "off"}.get(value, f"on the {value} path only")
@@ -1173,6 +1187,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
                 example = NAMED_REFINEMENTS[name]
             if name in COUNTED_REFINEMENTS:
                 example = COUNTED_REFINEMENTS[name]
+            if name == "pnn_net_arch":
+                example = "[255, 255] (hidden widths, or [] for net_arch's)"
             raise ValueError(
                 f"--set {item!r} is not allowed: expected a value like {name}={example}"
             )

@@ -341,6 +341,28 @@ def test_pf_validation_every_reaches_only_the_path_following_columns_checks() ->
         OURS.with_(pf_validation_every=0)
 
 
+def test_pnn_net_arch_widens_only_pnns_new_column() -> None:
+    """pnn_net_arch: the hidden widths of PNN's runs alone (its prior column, the source columns
+    and the other learners keep net_arch's), named only when set, so every other run keeps its
+    hash; [] means net_arch's, and a zero width is refused naming the value."""
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = parse_setup_changes(["pnn_net_arch=[255,255]"])
+    assert changes == {"pnn_net_arch": (255, 255)}
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=tuple(changes.items()))
+    for spec in build_plan(config):
+        pnn = spec.agent == "pnn"
+        if spec.sac_kwargs:  # the PID baselines train nothing
+            widths = spec.sac_kwargs["policy_kwargs"]["net_arch"]
+            assert widths == ([255, 255] if pnn else list(OURS.net_arch)), spec.run_id
+        assert (spec.config_hash() != plain[spec.run_id].config_hash()) == pnn, spec.run_id
+    same = StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pnn_net_arch", ()),))
+    assert {s.config_hash() for s in build_plan(same)} == {s.config_hash() for s in plain.values()}
+    with pytest.raises(ValueError, match=r"pnn_net_arch=\(64, 0\) is not allowed: expected widths"):
+        OURS.with_(pnn_net_arch=(64, 0))
+    with pytest.raises(ValueError, match=r"--set 'pnn_net_arch=255' is not allowed.*\[255, 255\]"):
+        parse_setup_changes(["pnn_net_arch=255"])
+
+
 def test_pnn_n_steps_sine_replaces_pnn_n_steps_on_the_sine_path_only() -> None:
     """pnn_n_steps_sine: PNN's n on the sine path; its straight-path runs keep pnn_n_steps,
     and a sine-path n of 1 leaves those runs' specs as one-step targets make them."""
