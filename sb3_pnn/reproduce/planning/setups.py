@@ -533,15 +533,11 @@ class TrainingSetup:
                 f"pnn_lateral_init_sine={sine_init!r} is not allowed: expected a number, or None "
                 "for pnn_lateral_init's value"
             )
-        if not self.net_arch or any(int(w) < 1 for w in self.net_arch):
-            raise ValueError(f"net_arch={self.net_arch!r} is not allowed: expected widths >= 1")
-        object.__setattr__(self, "net_arch", tuple(int(w) for w in self.net_arch))
-        if any(int(w) < 1 for w in self.pnn_net_arch):
-            raise ValueError(
-                f"pnn_net_arch={self.pnn_net_arch!r} is not allowed: expected widths >= 1, or "
-                "[] for net_arch's"
-            )
-        object.__setattr__(self, "pnn_net_arch", tuple(int(w) for w in self.pnn_net_arch))
+        for name, empty in (("net_arch", ""), ("pnn_net_arch", ", or [] for net_arch's")):
+            widths = getattr(self, name)
+            if (not widths and not empty) or any(int(w) < 1 for w in widths):
+                raise ValueError(f"{name}={widths!r} is not allowed: expected widths >= 1{empty}")
+            object.__setattr__(self, name, tuple(int(w) for w in widths))
         from rov_envs.sim.layouts import LAYOUT_CODES
 
         if self.oa_layout not in LAYOUT_CODES:
