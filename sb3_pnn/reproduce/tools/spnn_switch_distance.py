@@ -103,7 +103,7 @@ class SwitchWithMemory:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("study", type=Path)
     parser.add_argument("--path", choices=["straight", "sine"], default="straight")
     parser.add_argument("--d-th", type=float, nargs="+", default=[12.5, 8.0, 16.0, 20.0])
