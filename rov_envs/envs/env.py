@@ -196,6 +196,7 @@ class RovEnv(gym.Env):
             self._action[0] = _discrete_action(action)
         b = self._batch
         K.step_batch(K.MODE_PLAIN, 1, self._action, self._cont, self._continuous, *b.step_arrays)
+        b.after_kernel_step(K.MODE_PLAIN)
         o = b.out[:, 0]
         terminated = o[K.O_TERM] != 0.0
         truncated = o[K.O_TRUNC] != 0.0

@@ -153,6 +153,13 @@ class EnvConfig:
       [1, 100]: eq. 21's off-path failure, eq. 18/19's distance term and the path part's g / d_L
       read it (default: the task's, 30 on the straight tasks and ObstacleAvoidance, 15 on the
       sine tasks, as section 4.2.1 gives them).
+    * ``obstacle_latch``: ``(on, off)`` metres, 0 < on <= off, adds the ``"latch"`` part: 1
+      once the nearest sonar reading is within ``on`` m, back to 0 only when it is beyond
+      ``off`` m (a Schmitt trigger on the sonar, a one-bit memory of a near obstacle; each
+      episode starts from its first reading alone). Default None: no such part. SPNN's gate
+      can switch on it (``SelectivePolicy(gate_latch_key="latch")``): the sonar loses an
+      obstacle that the vehicle turns its back on, and a switch without memory then hands
+      control back to the path follower at once (docs/ablation section 42).
     * ``layout``: obstacles drawn afresh each episode by a generator of
       :mod:`rov_envs.sim.layouts` instead of the task's own (``"scatter"``: a random field of
       random density and size around the route, for training on layouts beyond the paper's;
@@ -188,6 +195,7 @@ class EnvConfig:
     heading_rule: str | None = None
     corridor: float | None = None
     layout: str | None = None
+    obstacle_latch: tuple[float, float] | None = None
 
     @property
     def layout_name(self) -> str:
@@ -212,6 +220,7 @@ class EnvConfig:
             ("goal", self.goal_obs),
             ("sonar", self.task.sonar),
             ("motion", self.motion_obs),
+            ("latch", self.obstacle_latch is not None),
         )
         return tuple(name for name, on in wanted if on)
 
@@ -381,6 +390,20 @@ def _check_sonar(args: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def _check_latch(task: TaskSpec, value: Any) -> tuple[float, float] | None:
+    """``obstacle_latch``: None, or ``(on, off)`` finite metres with 0 < on <= off, on a task
+    with a sonar."""
+    if value is None:
+        return None
+    allowed = "None or (on, off) in metres with 0 < on <= off (a task with a sonar)"
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
+        raise _bad("obstacle_latch", value, allowed)
+    on, off = (_finite_float("obstacle_latch", v, allowed) for v in value)
+    if not 0 < on <= off or not task.sonar:
+        raise _bad("obstacle_latch", value, allowed)
+    return (on, off)
+
+
 def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     """Actions, observation parts, rendering and the heading reference."""
     render_mode = args.get("render_mode")
@@ -455,6 +478,7 @@ def make_config(task_name: str, **kwargs: Any) -> EnvConfig:
         **_check_sonar(kwargs),
         **_check_interface(task, kwargs),
         **_check_reward(kwargs),
+        obstacle_latch=_check_latch(task, kwargs.get("obstacle_latch")),
     )
     default_t = TIME_LIMIT_FACTOR * config.path_length / U_REF
     t_max = _finite_float(

@@ -64,6 +64,11 @@ class RovBatch:
         #: then, with ``goal_offset``, g / d_L (rov_envs.sim.kernel's obs_path layout)
         self.goal_columns = [2, 1] if c.goal_offset else [2]
         self.has_sonar = c.has_sonar
+        #: the "latch" part (``obstacle_latch``): per vehicle, the trigger's state now and at
+        #: the final step of an episode that ended and was reset in the same step
+        self.latch_bounds = c.obstacle_latch
+        self.latch = np.zeros(n, dtype=np.bool_)
+        self.term_latch = np.zeros(n, dtype=np.bool_)
         self.has_motion = c.motion_obs
         self.continuous = c.continuous
         q = c.sonar_sectors if c.has_sonar else 0
@@ -134,6 +139,7 @@ class RovBatch:
         if seed is not None or not self.seeded[i]:
             self.seed_stream(i, seeding.np_random(seed)[0])
         K.reset_vehicle(i, *self._arrays())
+        self._update_latch()
 
     def reset_all(self, seeds: list[int | None]) -> None:
         """Start every vehicle's next episode; vehicle i's stream is seeded with ``seeds[i]``
@@ -146,6 +152,7 @@ class RovBatch:
             if s is not None or not self.seeded[i]:
                 self.seed_stream(i, seeding.np_random(s)[0])
         self._reset_kernel(self.num_envs, *self._arrays())
+        self._update_latch()
 
     def set_pose(self, i: int, x: float, y: float, heading: float) -> None:
         """Put vehicle i at rest at (x, y) with ``heading`` (rad), clear its counters, observe."""
@@ -161,6 +168,7 @@ class RovBatch:
             )
         K.place_vehicle(i, self.lanes, self.cfg, *pose)
         K.start_episode(i, *self._arrays())
+        self._update_latch()
 
     # ---- stepping ----
     def step(self, actions: Any, mode: int = K.MODE_PLAIN) -> None:
@@ -189,6 +197,30 @@ class RovBatch:
                 f"actions[{bad}]={got!r} is not allowed: expected {what} for every vehicle"
             )
         self._kernel(mode, n, ai, ac, self.continuous, *self.step_arrays)
+        self.after_kernel_step(mode)
+
+    def after_kernel_step(self, mode: int) -> None:
+        """What follows every kernel step in Python (a caller that runs ``kernel.step_batch``
+        itself calls it too): the ``obstacle_latch`` trigger."""
+        if self.latch_bounds is not None:
+            if mode == K.MODE_SAME_STEP:  # the ended episodes' final step, before their reset
+                self.term_latch[:] = self._latch_after(self.term_sonar, self.latch)
+            self._update_latch()
+
+    def _latch_after(self, sonar: np.ndarray, before: np.ndarray) -> np.ndarray:
+        """The trigger after a reading: on within ``on`` m, kept on (``before``) until beyond
+        ``off`` m."""
+        on, off = self.latch_bounds
+        nearest = sonar.min(axis=1) * self.config.sonar_range
+        return (nearest <= on) | (before & (nearest <= off))
+
+    def _update_latch(self) -> None:
+        """Advance the trigger on the current readings; a vehicle whose episode has taken no
+        step yet (just reset: its step counter is 0) starts from its reading alone."""
+        if self.latch_bounds is None:
+            return
+        started = self.out[K.O_STEPS] > 0
+        self.latch[:] = self._latch_after(self.obs_sonar, self.latch & started)
 
     # ---- reading ----
     def positions(self) -> np.ndarray:
@@ -211,7 +243,9 @@ class RovBatch:
         i = self._index(i)
         return self.obstacles[i, : self.n_obs[i]].copy()
 
-    def _parts(self, path: np.ndarray, sonar: np.ndarray, motion: np.ndarray) -> dict:
+    def _parts(
+        self, path: np.ndarray, sonar: np.ndarray, motion: np.ndarray, latch: np.ndarray
+    ) -> dict:
         """The task's observation parts from rows of the given arrays (copies)."""
         parts = {}
         if self.has_path:
@@ -222,19 +256,26 @@ class RovBatch:
             parts["sonar"] = sonar.copy()
         if self.has_motion:
             parts["motion"] = motion.copy()
+        if self.latch_bounds is not None:
+            parts["latch"] = np.asarray(latch, dtype=np.float32)[..., None]
         return parts
 
     def observations(self) -> dict[str, np.ndarray]:
         """The current observations (copies), one row per vehicle."""
-        return self._parts(self.obs_path, self.obs_sonar, self.obs_motion)
+        return self._parts(self.obs_path, self.obs_sonar, self.obs_motion, self.latch)
 
     def observation(self, i: int) -> dict[str, np.ndarray]:
         """Vehicle i's current observation (copies)."""
-        return self._parts(self.obs_path[i], self.obs_sonar[i], self.obs_motion[i])
+        return self._parts(self.obs_path[i], self.obs_sonar[i], self.obs_motion[i], self.latch[i])
 
     def terminal_observations(self, rows: np.ndarray) -> dict[str, np.ndarray]:
         """The final observations of the vehicles ``rows`` reset in the same step (copies)."""
-        return self._parts(self.term_path[rows], self.term_sonar[rows], self.term_motion[rows])
+        return self._parts(
+            self.term_path[rows],
+            self.term_sonar[rows],
+            self.term_motion[rows],
+            self.term_latch[rows],
+        )
 
     def heading_errors(self) -> np.ndarray:
         """(N,) the heading deviation a_c of each vehicle now (rad; eq. 16)."""

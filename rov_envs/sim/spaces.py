@@ -18,7 +18,7 @@ MOTION_SPACE = spaces.Box(
 
 
 def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
-    """``Dict([path][, goal][, sonar][, motion])`` observations (``config.obs_parts``);
+    """``Dict([path][, goal][, sonar][, motion][, latch])`` observations (``config.obs_parts``);
     ``Discrete(5)`` or ``Box(-1, 1, (2,))`` actions."""
     parts: dict[str, spaces.Space] = {}
     if "path" in config.obs_parts:
@@ -29,6 +29,8 @@ def make_spaces(config: EnvConfig) -> tuple[spaces.Dict, spaces.Space]:
         parts["sonar"] = spaces.Box(0.0, 1.0, (config.sonar_sectors,), np.float32)
     if config.motion_obs:
         parts["motion"] = MOTION_SPACE
+    if config.obstacle_latch is not None:  # 1 while a near obstacle is remembered, else 0
+        parts["latch"] = spaces.Box(0.0, 1.0, (1,), np.float32)
     action: spaces.Space
     if config.continuous:
         action = spaces.Box(-1.0, 1.0, (2,), np.float32)

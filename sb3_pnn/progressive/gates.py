@@ -14,6 +14,11 @@ two prior columns [path following, obstacle avoidance]; rows sum to 1.
   outside it the path column steers, whatever the sonar reads. The avoidance column trains
   within 30 m of its start-goal line and, among obstacles near a bend of the sinusoid (d_L =
   15 m), keeps detouring until the corridor's edge ends the episode (docs/ablation section 25).
+* ``latch_key`` (beyond the paper, the hard gate): the avoidance column has control while the
+  observation's part ``latch_key`` reads 1 (rov_envs' ``obstacle_latch``: on from a reading
+  within its ``on`` metres until one beyond its ``off``) instead of while d <= d_th: a switch
+  with memory whose memory is in the observation, so replayed samples switch as the acting
+  policy did.
 * ``"learned"`` (A2T-style, Rajendran et al. 2017): g = softmax(MLP(s)) from the flattened new
   observation; trained by the loss of the network that owns it. The actor and each critic own
   one (a shared gate would sit in two optimizers); hard and soft gates have no parameters, so the
@@ -58,17 +63,21 @@ class DistanceGate(nn.Module):
         temperature: float = 1.0,
         corridor: float | None = None,
         path_key: str = "path",
+        latch_key: str | None = None,
     ):
         super().__init__()
         if mode not in ("hard", "soft"):
             raise ValueError(f"DistanceGate mode must be 'hard' or 'soft', got {mode!r}")
         if mode == "soft" and not temperature > 0:
             raise ValueError(f"soft gate temperature must be > 0 (metres), got {temperature!r}")
+        if latch_key is not None and mode != "hard":
+            raise ValueError(f"latch_key={latch_key!r} needs the hard gate, got mode={mode!r}")
         if not sonar_range > 0:
             raise ValueError(f"sonar_range must be > 0 (metres), got {sonar_range!r}")
         self.mode = mode
         self.corridor = checked_corridor(corridor, "gate corridor")
         self.path_key = path_key
+        self.latch_key = latch_key
         self.d_th = float(d_th)
         self.sonar_range = float(sonar_range)
         self.sonar_key = sonar_key
@@ -85,11 +94,19 @@ class DistanceGate(nn.Module):
             self.temperature,
             self.corridor,
             self.path_key,
+            self.latch_key,
         )
 
     def forward(self, obs: dict[str, th.Tensor], features: th.Tensor | None = None) -> th.Tensor:
         d = nearest_distance(obs, self.sonar_key, self.sonar_range)
-        if self.mode == "hard":
+        if self.latch_key is not None:
+            if self.latch_key not in obs:
+                raise KeyError(
+                    f"SPNN gate with a latch needs observation key {self.latch_key!r}; "
+                    f"observation has {list(obs)}"
+                )
+            near = (obs[self.latch_key].float().flatten(1)[:, 0] > 0.5).to(d.dtype)
+        elif self.mode == "hard":
             near = (d <= self.d_th).to(d.dtype)
         else:
             near = th.sigmoid((self.d_th - d) / self.temperature)

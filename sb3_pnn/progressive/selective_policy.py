@@ -99,6 +99,13 @@ class SelectivePolicy(ProgressivePolicy):
         beyond which the path column steers whatever the sonar reads (``|g| / d_L >= c``, read
         from the observation's "path" part; see :mod:`.gates`). None (default, the paper): the
         distance alone decides.
+    :param gate_latch_key: With the hard gate, an observation key that remembers a near
+        obstacle (rov_envs' ``obstacle_latch`` part: 1 from a reading within its ``on`` metres
+        until one beyond its ``off``): the avoidance column has control while it reads 1,
+        instead of while d <= d_th, so the switch keeps control through the turn away from an
+        obstacle, which the sonar loses behind the vehicle (docs/ablation section 42). The
+        memory is part of the observation, so the replayed samples switch as the acting policy
+        did. None (default, eq. 15): the switch has no memory.
     :param gate_hidden: Hidden width of the learned gate
     :param prior_kl: Weight of KL(pi || the gate-selected prior's policy) in the actor's loss
         (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
@@ -132,6 +139,7 @@ class SelectivePolicy(ProgressivePolicy):
         gate: str = "hard",
         temperature: float = 1.0,
         gate_corridor: float | None = None,
+        gate_latch_key: str | None = None,
         gate_hidden: int = 32,
         critic_priors: bool = True,
         start_as_prior: bool = True,
@@ -160,6 +168,14 @@ class SelectivePolicy(ProgressivePolicy):
                     f"gate_corridor={gate_corridor!r} needs the observation's 'path' part "
                     f"[a_c / pi, g / d_L], got {observation_space}"
                 )
+        if gate_latch_key is not None and (
+            gate != "hard" or gate_latch_key not in observation_space.spaces
+        ):
+            raise ValueError(
+                f"gate_latch_key={gate_latch_key!r} is not allowed: expected None, or with "
+                f"gate='hard' (got {gate!r}) a key of the observation (got "
+                f"{list(observation_space.spaces)})"
+            )
         for name, value in (("sigma", sigma), ("own_weight", own_weight), ("d_th", d_th)):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -171,6 +187,7 @@ class SelectivePolicy(ProgressivePolicy):
         self.gate = gate
         self.temperature = float(temperature)
         self.gate_corridor = checked_corridor(gate_corridor, "gate_corridor")
+        self.gate_latch_key = gate_latch_key
         self.gate_hidden = int(gate_hidden)
         super().__init__(
             observation_space,
@@ -219,6 +236,7 @@ class SelectivePolicy(ProgressivePolicy):
             self.sonar_key,
             self.temperature,
             corridor=self.gate_corridor,
+            latch_key=self.gate_latch_key,
         )
 
     def _mixing(self) -> tuple[float, float]:
@@ -235,6 +253,7 @@ class SelectivePolicy(ProgressivePolicy):
             gate=self.gate,
             temperature=self.temperature,
             gate_corridor=self.gate_corridor,
+            gate_latch_key=self.gate_latch_key,
             gate_hidden=self.gate_hidden,
         )
 

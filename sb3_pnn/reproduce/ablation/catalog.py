@@ -334,11 +334,18 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                     episodes=budget.episodes[task],
                     deps=deps,
                     eval_tasks=(
-                        ("own", env_id, {**setup.env_kwargs(), **setup.agent_env_kwargs(agent)}),
+                        (
+                            "own",
+                            env_id,
+                            {**setup.env_kwargs(), **setup.agent_env_kwargs(agent, path)},
+                        ),
                     ),
                     eval_episodes=budget.eval_episodes,
                     sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
-                    env_kwargs={**setup.train_env_kwargs(env_id), **setup.agent_env_kwargs(agent)},
+                    env_kwargs={
+                        **setup.train_env_kwargs(env_id),
+                        **setup.agent_env_kwargs(agent, path),
+                    },
                     validation=setup.validation(learner=True),
                 )
     plan = list(runs.values())

@@ -359,7 +359,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                     )
                     for t in AGENTS[agent]
                 )
-                own_env = setup.agent_env_kwargs(agent)
+                own_env = setup.agent_env_kwargs(agent, path)
                 runs.append(
                     RunSpec(
                         run_id=f"{agent}-{path}-s{seed}",

@@ -105,6 +105,11 @@ Factors:
   column whatever the sonar reads (|g| / d_L >= c). ``None`` (the paper): the distance alone
   decides. Ours: 0.9. On the straight path (d_L = 30 m) few detours reach it; on the sinusoid
   (15 m) it ends the avoidance column's detours before the corridor's edge ends the episode.
+* ``spnn_switch_memory``: H (m), a memory for SPNN's hard switch: its planning runs observe
+  rov_envs' ``obstacle_latch=(d_th, d_th + H)`` part and the avoidance column keeps control
+  from a reading within d_th until one beyond d_th + H (``SelectivePolicy(gate_latch_key=
+  "latch")``). None (the paper): eq. 15's switch without memory. Only SPNN runs on a path
+  whose gate is the hard switch read it.
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -326,6 +331,7 @@ class TrainingSetup:
     spnn_gate_sine: str | None = None
     spnn_gate_temperature: float = 2.0
     spnn_gate_corridor: float | None = None
+    spnn_switch_memory: float | None = None
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -489,6 +495,12 @@ class TrainingSetup:
                     f"spnn_gate_corridor={corridor!r} is not allowed with a learned gate: it "
                     "bounds the distance gates ('hard', 'soft'); add spnn_gate_corridor=null"
                 )
+        memory = self.spnn_switch_memory
+        if memory is not None and not (is_finite_number(memory) and 0 <= memory <= 100):
+            raise ValueError(
+                f"spnn_switch_memory={memory!r} is not allowed: expected a distance in [0, 100] "
+                "(m), or None for eq. 15's switch without memory"
+            )
         temperature = self.spnn_gate_temperature
         if not (is_finite_number(temperature) and temperature > 0):
             raise ValueError(
@@ -607,12 +619,16 @@ class TrainingSetup:
             kwargs.update(sonar_span=span, sonar_sectors=self.sonar_sectors)
         return kwargs
 
-    def agent_env_kwargs(self, agent: str) -> dict[str, Any]:
-        """What one learner's planning runs add to :meth:`env_kwargs` (training and evaluation
-        alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only prior being
-        a path follower that reads the path part (the part is there for SPNN's avoidance
-        column); every learner's ``planning_obstacle_penalty`` when it is not the paper's."""
+    def agent_env_kwargs(self, agent: str, path: str = "") -> dict[str, Any]:
+        """What one learner's planning runs on ``path`` add to :meth:`env_kwargs` (training and
+        evaluation alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only
+        prior being a path follower that reads the path part (the part is there for SPNN's
+        avoidance column); SPNN's ``obstacle_latch`` where ``spnn_switch_memory`` acts; every
+        learner's ``planning_obstacle_penalty`` when it is not the paper's."""
         kwargs: dict[str, Any] = {}
+        latch = self.spnn_latch_of(path) if agent == "spnn" else None
+        if latch is not None:  # named only when on, so earlier runs keep their hash
+            kwargs["obstacle_latch"] = list(latch)
         if self.planning_obstacle_penalty != 1.0:  # named only off the paper's weight (hashes)
             kwargs["obstacle_penalty"] = float(self.planning_obstacle_penalty)
         if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
@@ -751,7 +767,25 @@ class TrainingSetup:
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
+        if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
+            kwargs["policy_kwargs"]["gate_latch_key"] = "latch"
         return kwargs
+
+    def spnn_latch_of(self, path: str) -> tuple[float, float] | None:
+        """The ``obstacle_latch`` (on, off) in metres of SPNN's runs on planning path ``path``:
+        (d_th, d_th + ``spnn_switch_memory``) where that is set and the path's gate is the hard
+        switch, else None."""
+        if self.spnn_switch_memory is None:
+            return None
+        if path not in ("straight", "sine"):
+            raise ValueError(
+                f"spnn_switch_memory={self.spnn_switch_memory!r} depends on the path: expected "
+                "path='straight' or 'sine'"
+            )
+        if self.spnn_gate_of(path) != "hard":
+            return None
+        d_th = float(self._policy_value("spnn_d_th", path)[0])
+        return (d_th, d_th + float(self.spnn_switch_memory))
 
     def target_entropy_ratio_of(self, agent: str) -> float:
         """The target entropy's fraction of log|A| for a run of learner ``agent`` (``""``: a
@@ -1024,6 +1058,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_gate_sine": "SPNN selector on the sine path",
     "spnn_gate_temperature": "SPNN soft selector's temperature (m)",
     "spnn_gate_corridor": "SPNN gate's corridor bound c (the path column beyond abs(g) = c d_L)",
+    "spnn_switch_memory": "SPNN switch's memory H (m): avoidance kept until beyond d_th + H",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
@@ -1087,6 +1122,8 @@ def describe_value(name: str, value: Any) -> str:
         return "as the other source columns'"
     if name == "oa_time_limit" and value is None:
         return "the task's (120 s)"
+    if name == "spnn_switch_memory" and value is None:
+        return "none (eq. 15's switch)"
     if name in SINE_PATH_FACTORS and value is None:
         return "as on the straight path"
     if name == "pnn_exploration_epsilon" and value is None:

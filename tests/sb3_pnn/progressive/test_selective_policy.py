@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch as th
+from gymnasium import spaces
 from progressive_helpers import SONAR_RANGE, ToyRovEnv, batch, toy_model
 from stable_baselines3.common.logger import KVWriter, Logger
 
@@ -110,6 +111,47 @@ def test_corridor_hands_the_laterals_back_to_the_path_column_near_the_edge(prior
 def test_corridor_refuses_bad_values(priors, kwargs, message):
     with pytest.raises(ValueError, match=message):
         _model(priors, **kwargs)
+
+
+def test_latch_gate_switches_on_the_remembered_obstacle_not_the_reading(priors, tmp_path):
+    """gate_latch_key: the avoidance column has control exactly where the observation's latch
+    reads 1, whatever the sonar reads now (actor and critics alike), and the key is saved."""
+    latch_space = spaces.Box(0.0, 1.0, (1,), np.float32)
+    env = ToyRovEnv(("path", "sonar", "latch"), extra={"latch": latch_space})
+    kw = dict(priors=[priors["pf_dsac"], priors["oa_dsac"]], net_arch=[16, 16])
+    model = DiscreteSAC(
+        SelectivePolicy, env, policy_kwargs={**kw, "gate_latch_key": "latch"}, seed=0
+    )
+    policy = model.policy
+    obs = batch(policy.observation_space, len(DISTANCES), seed=3)
+    sonar = np.ones_like(obs["sonar"])
+    sonar[np.arange(len(DISTANCES)), 0] = DISTANCES / SONAR_RANGE
+    obs["sonar"] = sonar.astype(np.float32)
+    latched = th.tensor([True, False, True, True, False])  # unlike NEAR on rows 1, 3 and 4
+    obs["latch"] = latched.float().numpy()[:, None]
+    obs = policy.obs_to_tensor(obs)[0]
+    expected = th.stack([(~latched).float(), latched.float()], dim=1)
+    assert th.equal(policy.gate_weights(obs), expected)
+    with th.no_grad():
+        logits, q = policy.actor(obs), policy.critic(obs)
+        _perturb(policy.actor.net.priors[1])
+        for q_net in policy.critic.q_networks:
+            _perturb(q_net.priors[1])
+        assert th.equal((policy.actor(obs) != logits).any(dim=1), latched)
+        assert th.equal((policy.critic(obs)[0] != q[0]).any(dim=1), latched)
+    model.save(tmp_path / "spnn.zip")
+    loaded = DiscreteSAC.load(tmp_path / "spnn.zip", device="cpu").policy
+    assert loaded.actor.gate.latch_key == "latch"
+    with pytest.raises(
+        ValueError, match=r"gate_latch_key='latch' is not allowed: .* \(got 'soft'\)"
+    ):
+        DiscreteSAC(
+            SelectivePolicy, env, policy_kwargs={**kw, "gate": "soft", "gate_latch_key": "latch"}
+        )
+    with pytest.raises(
+        ValueError, match=r"gate_latch_key='memory' is not allowed: .*\['latch', 'path'"
+    ):
+        DiscreteSAC(SelectivePolicy, env, policy_kwargs={**kw, "gate_latch_key": "memory"})
 
 
 def test_learned_gate_is_a_trained_softmax(priors):

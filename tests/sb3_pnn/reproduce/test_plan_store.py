@@ -273,6 +273,27 @@ def test_spnn_gate_corridor_reaches_both_spnn_runs_only() -> None:
     assert StudyConfig(budget_name="tiny", seeds=1, setup_changes=learned)
 
 
+def test_spnn_switch_memory_reaches_spnns_hard_switch_only() -> None:
+    """spnn_switch_memory=H: SPNN's straight runs (the hard switch) observe the latch (d_th,
+    d_th + H) in training and evaluation and switch on it; the sine runs (the soft gate) and
+    every other run keep their spec and hash."""
+    _, default = _spnn_gates()
+    _, memory = _spnn_gates((("spnn_switch_memory", 10.0),))
+    for run_id, spec in default.items():
+        other = memory[run_id]
+        latched = run_id == "spnn-straight-s0"
+        assert (spec.config_hash() != other.config_hash()) == latched, run_id
+        if latched:
+            assert other.env_kwargs["obstacle_latch"] == [12.5, 22.5]
+            assert all(kw["obstacle_latch"] == [12.5, 22.5] for _, _, kw in other.eval_tasks)
+            assert other.sac_kwargs["policy_kwargs"]["gate_latch_key"] == "latch"
+    assert parse_setup_changes(["spnn_switch_memory=10"]) == {"spnn_switch_memory": 10.0}
+    with pytest.raises(ValueError, match=r"spnn_switch_memory=-1.0 is not allowed: expected a"):
+        OURS.with_(spnn_switch_memory=-1.0)
+    with pytest.raises(ValueError, match=r"spnn_switch_memory=10.0 depends on the path"):
+        OURS.with_(spnn_switch_memory=10.0).agent_env_kwargs("spnn")
+
+
 @pytest.mark.parametrize(
     ("factor", "value"),
     [
