@@ -36,6 +36,12 @@ PARALLEL_MIN_ENVS = 64
 K.check_compiled_params()
 
 
+def schmitt_trigger(nearest: np.ndarray, before: np.ndarray, on: float, off: float) -> np.ndarray:
+    """The ``obstacle_latch`` rule after a nearest-obstacle reading (m): on within ``on``, kept
+    on (``before``) until beyond ``off``."""
+    return (nearest <= on) | (before & (nearest <= off))
+
+
 class RovBatch:
     """N vehicles on one task (``config`` or ``task`` plus the single env's keyword arguments)."""
 
@@ -139,7 +145,7 @@ class RovBatch:
         if seed is not None or not self.seeded[i]:
             self.seed_stream(i, seeding.np_random(seed)[0])
         K.reset_vehicle(i, *self._arrays())
-        self._update_latch()
+        self._update_latch(i)
 
     def reset_all(self, seeds: list[int | None]) -> None:
         """Start every vehicle's next episode; vehicle i's stream is seeded with ``seeds[i]``
@@ -152,7 +158,7 @@ class RovBatch:
             if s is not None or not self.seeded[i]:
                 self.seed_stream(i, seeding.np_random(s)[0])
         self._reset_kernel(self.num_envs, *self._arrays())
-        self._update_latch()
+        self._update_latch(slice(None))
 
     def set_pose(self, i: int, x: float, y: float, heading: float) -> None:
         """Put vehicle i at rest at (x, y) with ``heading`` (rad), clear its counters, observe."""
@@ -168,7 +174,7 @@ class RovBatch:
             )
         K.place_vehicle(i, self.lanes, self.cfg, *pose)
         K.start_episode(i, *self._arrays())
-        self._update_latch()
+        self._update_latch(i)
 
     # ---- stepping ----
     def step(self, actions: Any, mode: int = K.MODE_PLAIN) -> None:
@@ -204,23 +210,24 @@ class RovBatch:
         itself calls it too): the ``obstacle_latch`` trigger."""
         if self.latch_bounds is not None:
             if mode == K.MODE_SAME_STEP:  # the ended episodes' final step, before their reset
-                self.term_latch[:] = self._latch_after(self.term_sonar, self.latch)
-            self._update_latch()
+                ended = self.pending
+                self.term_latch[ended] = self._trigger(self.term_sonar[ended], self.latch[ended])
+            self._update_latch(slice(None))
 
-    def _latch_after(self, sonar: np.ndarray, before: np.ndarray) -> np.ndarray:
-        """The trigger after a reading: on within ``on`` m, kept on (``before``) until beyond
-        ``off`` m."""
-        on, off = self.latch_bounds
+    def _trigger(self, sonar: np.ndarray, before: np.ndarray) -> np.ndarray:
+        """:func:`schmitt_trigger` on rows of (normalized) sonar readings."""
         nearest = sonar.min(axis=1) * self.config.sonar_range
-        return (nearest <= on) | (before & (nearest <= off))
+        return schmitt_trigger(nearest, before, *self.latch_bounds)
 
-    def _update_latch(self) -> None:
-        """Advance the trigger on the current readings; a vehicle whose episode has taken no
-        step yet (just reset: its step counter is 0) starts from its reading alone."""
+    def _update_latch(self, rows: int | slice) -> None:
+        """Advance the trigger of vehicles ``rows`` on their current readings; a vehicle whose
+        episode has taken no step yet (just reset: its step counter is 0) starts from its
+        reading alone."""
         if self.latch_bounds is None:
             return
-        started = self.out[K.O_STEPS] > 0
-        self.latch[:] = self._latch_after(self.obs_sonar, self.latch & started)
+        rows = np.atleast_1d(np.arange(self.num_envs)[rows])
+        started = self.out[K.O_STEPS, rows] > 0
+        self.latch[rows] = self._trigger(self.obs_sonar[rows], self.latch[rows] & started)
 
     # ---- reading ----
     def positions(self) -> np.ndarray:

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import torch as th
 
+from rov_envs.sim.engine import schmitt_trigger
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.common.checks import is_finite_number
@@ -73,12 +74,10 @@ def remembered_switch(
     """Per vehicle, whether the avoidance column has control: within ``d_th`` of the nearest
     obstacle (eq. 15), or it had control on the step before (``previous``) and the obstacle is
     still within ``d_th + hysteresis``; a vehicle starting an episode has no memory."""
-    near = nearest <= d_th
-    if previous is None or previous.shape != near.shape:
-        return near
-    kept = previous & (nearest <= d_th + hysteresis)
-    starting = np.zeros_like(near) if episode_start is None else np.asarray(episode_start)
-    return np.where(starting, near, near | kept)
+    if previous is None or previous.shape != np.shape(nearest):
+        return nearest <= d_th
+    starting = np.zeros_like(previous) if episode_start is None else np.asarray(episode_start)
+    return schmitt_trigger(nearest, previous & ~starting.astype(bool), d_th, d_th + hysteresis)
 
 
 class SwitchWithMemory:
