@@ -98,18 +98,19 @@ class DistanceGate(nn.Module):
         )
 
     def forward(self, obs: dict[str, th.Tensor], features: th.Tensor | None = None) -> th.Tensor:
-        d = nearest_distance(obs, self.sonar_key, self.sonar_range)
-        if self.latch_key is not None:
+        if self.latch_key is not None:  # the remembered switch: no distance to compute
             if self.latch_key not in obs:
                 raise KeyError(
                     f"SPNN gate with a latch needs observation key {self.latch_key!r}; "
                     f"observation has {list(obs)}"
                 )
-            near = (obs[self.latch_key].float().flatten(1)[:, 0] > 0.5).to(d.dtype)
-        elif self.mode == "hard":
-            near = (d <= self.d_th).to(d.dtype)
+            near = (obs[self.latch_key].float().flatten(1)[:, 0] > 0.5).float()
         else:
-            near = th.sigmoid((self.d_th - d) / self.temperature)
+            d = nearest_distance(obs, self.sonar_key, self.sonar_range)
+            if self.mode == "hard":
+                near = (d <= self.d_th).to(d.dtype)
+            else:
+                near = th.sigmoid((self.d_th - d) / self.temperature)
         if self.corridor is not None:
             if self.path_key not in obs:
                 raise KeyError(
@@ -117,7 +118,7 @@ class DistanceGate(nn.Module):
                     f"([a_c / pi, g / d_L]); observation has {list(obs)}"
                 )
             inside = obs[self.path_key].float()[:, 1].abs() < self.corridor
-            near = near * inside.to(d.dtype)
+            near = near * inside.to(near.dtype)
         return th.stack([1.0 - near, near], dim=1)
 
 
