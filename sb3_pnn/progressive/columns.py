@@ -231,13 +231,20 @@ class ProgressiveNet(nn.Module):
         return h
 
     @th.no_grad()
-    def start_as_priors_(self, multiplier: float = 1.0) -> None:
+    def start_as_priors_(self, multiplier: float = 1.0, only: int | None = None) -> None:
         """Make the output equal sum_j (c_j(s) / multiplier) * (prior j's own output) before any
         update (module docstring): the output laterals copy the priors' output layers divided by
         ``multiplier`` (the constant part of c_j: 1 for the PNN, sigma for the SPNN), their scale
         alpha is set to 1, and the own output weights and bias to 0. Needs
         ``output_lateral_bias=True`` and priors with hidden layers and this column's output size.
+        With ``only=j`` the output starts as prior j's alone: the other priors' output laterals
+        start at zero weight and bias (scale 1, so that they learn from there).
         """
+        if only is not None and not 0 <= only < len(self.priors):
+            raise ValueError(
+                f"only={only!r} is not allowed: expected None or a prior index in "
+                f"[0, {len(self.priors) - 1}]"
+            )
         last = len(self.layers) - 1
         if not self.priors:
             raise ValueError("start_as_priors_ needs prior columns; this column has none")
@@ -259,8 +266,12 @@ class ProgressiveNet(nn.Module):
                     f"output lateral {tuple(lateral.weight.shape)} (a different number of "
                     "actions?)"
                 )
-            lateral.weight.copy_(weight / multiplier)
-            lateral.bias.copy_(bias / multiplier)
+            if only is None or j == only:
+                lateral.weight.copy_(weight / multiplier)
+                lateral.bias.copy_(bias / multiplier)
+            else:
+                lateral.weight.zero_()
+                lateral.bias.zero_()
             self.lateral_scale[last, j] = 1.0
         own.weight.zero_()
         own.bias.zero_()

@@ -96,6 +96,7 @@ class ProgressiveActor(BasePolicy):
         own_weight: float = 1.0,
         normalize_images: bool = True,
         kl_gate: DistanceGate | None = None,
+        reference_prior: int | None = None,
     ):
         super().__init__(
             observation_space,
@@ -104,6 +105,7 @@ class ProgressiveActor(BasePolicy):
             normalize_images=normalize_images,
         )
         self.kl_gate = kl_gate
+        self.reference_prior = reference_prior
         self.features_dim = features_dim
         self.net = net
         self.feeds = list(feeds)
@@ -129,8 +131,8 @@ class ProgressiveActor(BasePolicy):
         """The logits of column k (with gradient) and, without gradient, the log-probabilities
         of the priors' own policy pi_0: for the SPNN the gate-selected prior's (a soft or learned
         gate mixes the priors' log-probabilities by its weights, then renormalises); for a PNN
-        the prior's (the mean over several). One pass: the priors' hidden activations feed both
-        the laterals and pi_0."""
+        the prior's (the mean over several, or the ``reference_prior``'s alone). One pass: the
+        priors' hidden activations feed both the laterals and pi_0."""
         pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
         features = self.features_extractor(pre)
         inputs = [feed(pre) for feed in self.feeds]
@@ -140,6 +142,10 @@ class ProgressiveActor(BasePolicy):
             self._count_leads(g)
         logits = self.net(features, hidden, weights, self.own_weight)
         with th.no_grad():
+            if self.reference_prior is not None:
+                j = self.reference_prior
+                col = self.net.priors[j]
+                return logits, F.log_softmax(col.output(hidden[j], inputs[j]), dim=1)
             own = [
                 F.log_softmax(col.output(h, x), dim=1)
                 for col, h, x in zip(self.net.priors, hidden, inputs, strict=True)
@@ -299,7 +305,13 @@ class ProgressivePolicy(DiscreteSACPolicy):
         SPNN the gate-selected prior's): output laterals with a bias copy the priors' output
         layers and the new column's own output layer starts at zero
         (:meth:`.columns.ProgressiveNet.start_as_priors_`; not in the paper, which starts the
-        new column at random). A PNN needs exactly one prior for it
+        new column at random). A PNN needs exactly one prior for it, or ``reference_prior``
+    :param reference_prior: With several priors, the index of the one whose policy a PNN
+        starts as (``start_as_prior``; the other priors' output laterals then start at zero)
+        and that ``prior_kl`` pulls toward, e.g. 0 for a PNN that reads a path-following
+        column first and an obstacle-avoidance column beside it, as eq. 13 reads every
+        earlier column (the paper's PNN has the path follower alone). None (default): every
+        prior (the KL term's reference is their mean)
     :param init_from_prior: The new column starts as a copy of the first prior's column (the
         actor's from the prior's actor, critic i's from the prior's critic i mod n; observation
         inputs the prior does not see get zero first-layer weights): section 3.1's "the
@@ -351,6 +363,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
         init_from_prior: bool = False,
         prior_kl: float = 0.0,
         prior_kl_clearance: float | None = None,
+        reference_prior: int | None = None,
         action_smoothness: float = 0.0,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
@@ -375,6 +388,16 @@ class ProgressivePolicy(DiscreteSACPolicy):
         # Set before super().__init__, which builds the networks through make_actor/make_critic.
         self.prior_specs, self._checkpoints = _resolve_priors(priors, prior_specs)
         self._validate_priors(self.prior_specs, action_space)
+        if reference_prior is not None and (
+            isinstance(reference_prior, bool)
+            or not isinstance(reference_prior, int)
+            or not 0 <= reference_prior < len(self.prior_specs)
+        ):
+            raise ValueError(
+                f"reference_prior={reference_prior!r} is not allowed: expected None or a prior "
+                f"index in [0, {len(self.prior_specs) - 1}]"
+            )
+        self.reference_prior = reference_prior
         new_obs = obs_spec_from_space(observation_space)
         self.feeds = [
             match_prior_obs(s.obs, new_obs, f"prior {i} ({s.source or s.algo})")
@@ -387,7 +410,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
         self.critic_priors = critic_priors
         if not isinstance(start_as_prior, bool):
             raise ValueError(f"start_as_prior must be True or False, got {start_as_prior!r}")
-        self._check_start_as_prior(start_as_prior, len(self.prior_specs))
+        if reference_prior is None:
+            self._check_start_as_prior(start_as_prior, len(self.prior_specs))
         self.start_as_prior = start_as_prior
         if not isinstance(init_from_prior, bool):
             raise ValueError(f"init_from_prior must be True or False, got {init_from_prior!r}")
@@ -452,6 +476,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
             kwargs["prior_kl_clearance"] = self.prior_kl_clearance
         if self.action_smoothness > 0:  # named only when on, as saved models before it
             kwargs["action_smoothness"] = self.action_smoothness
+        if self.reference_prior is not None:  # named only when set, as saved models before it
+            kwargs["reference_prior"] = self.reference_prior
         return kwargs
 
     # --- networks -------------------------------------------------------------------------
@@ -512,7 +538,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             )
             copy_layers(list(net.layers), init_layers, columns_seen)
         if start:  # (a saved model's state dict then overwrites these weights)
-            net.start_as_priors_(multiplier=self._mixing()[0])
+            net.start_as_priors_(multiplier=self._mixing()[0], only=self.reference_prior)
         return net
 
     def make_actor(
@@ -537,6 +563,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             sigma=sigma,
             own_weight=own,
             normalize_images=self.normalize_images,
+            reference_prior=self.reference_prior,
             kl_gate=(
                 None
                 if self.prior_kl_clearance is None

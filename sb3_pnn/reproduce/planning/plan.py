@@ -57,6 +57,17 @@ AGENT_LABELS: dict[str, str] = {
     "adaptive_pid": "Adaptive PID",
 }
 BASELINES: tuple[str, ...] = ("pid", "adaptive_pid")
+
+
+def agent_priors(setup: TrainingSetup, agent: str, path: str) -> tuple[str, ...]:
+    """The source columns ``agent`` reads on planning path ``path``, in its priors' order:
+    :data:`AGENTS`' and, for PNN where ``pnn_avoidance_column`` is on, the avoidance column."""
+    names = tuple(t.format(path=path) for t in AGENTS[agent])
+    if agent == "pnn" and setup.on_path("pnn_avoidance_column", path):
+        names += ("oa",)
+    return names
+
+
 #: Evaluation tasks per path: (label, env id, env kwargs). "path following" keeps the planning
 #: task's observation (sonar included) and removes its obstacles, so that the same policy runs.
 EVAL_TASKS: dict[str, tuple[tuple[str, str, dict[str, Any]], ...]] = {
@@ -308,7 +319,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
     needed: set[str] = set()
     for path in config.paths:
         for agent in config.agents:
-            needed.update(t.format(path=path) for t in AGENTS[agent])
+            needed.update(agent_priors(setup, agent, path))
     runs: list[RunSpec] = []
     for column_set in prior_seeds:
         for name in PRIOR_ENVS:
@@ -354,10 +365,8 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
             prior_seed = seed if config.prior_per_seed else 0
             for agent in config.agents:
                 deps = tuple(
-                    column_run_id(
-                        name := t.format(path=path), prior_seed, setup.column_candidates(name)
-                    )
-                    for t in AGENTS[agent]
+                    column_run_id(name, prior_seed, setup.column_candidates(name))
+                    for name in agent_priors(setup, agent, path)
                 )
                 own_env = setup.agent_env_kwargs(agent, path)
                 runs.append(

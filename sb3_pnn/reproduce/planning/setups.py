@@ -86,6 +86,14 @@ Factors:
   (off). With the laterals' scale at 0 the PNN then starts as SAC-Multi does, keeping the frozen
   prior beside it. ``spnn_init_from_prior`` (values as ``pnn_critic_priors``) starts the SPNN's
   new column as a copy of its first, the path-following, prior.
+* ``pnn_avoidance_column``: on which planning paths (values as ``pnn_critic_priors``) PNN
+  reads the obstacle-avoidance column beside its path-following one, ungated: eq. 13 with
+  every earlier column, as Rusu et al. (2016) and the paper's Figure 3 draw it, where the
+  paper's PNN is dual-column (section 3.2: the path follower alone) and only SPNN gets the
+  avoidance column, through its gate. The path-following column stays the reference of
+  ``pnn_start_as_prior`` and ``pnn_prior_kl`` (``ProgressivePolicy(reference_prior=0)``); the
+  avoidance column's output lateral starts at zero. It separates what SPNN gains from its
+  second column from what it gains from its gate. Only PNN runs read it.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it; ``spnn_d_th_sine``
@@ -325,6 +333,7 @@ class TrainingSetup:
     spnn_start_as_prior: bool = False
     pnn_init_from_prior: str = "neither"
     spnn_init_from_prior: str = "neither"
+    pnn_avoidance_column: str = "neither"
     spnn_d_th: float = PAPER_D_TH
     spnn_d_th_sine: float | None = None
     spnn_gate: str = "hard"
@@ -769,6 +778,9 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
             kwargs["policy_kwargs"]["gate_latch_key"] = "latch"
+        if agent == "pnn" and self.pnn_avoidance_column != "neither":  # named only when on
+            if self.on_path("pnn_avoidance_column", path):
+                kwargs["policy_kwargs"]["reference_prior"] = 0
         return kwargs
 
     def spnn_latch_of(self, path: str) -> tuple[float, float] | None:
@@ -947,6 +959,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_start_as_prior",
     "pnn_init_from_prior",
     "spnn_init_from_prior",
+    "pnn_avoidance_column",
 )
 
 #: Factors that give the sine path its own value of another factor (None: that factor's).
@@ -1052,6 +1065,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_start_as_prior": "SPNN starts as its selected prior",
     "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
     "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
+    "pnn_avoidance_column": "PNN reads the avoidance column too (eq. 13, ungated)",
     "spnn_d_th": "SPNN switch distance d_th (m)",
     "spnn_d_th_sine": "SPNN switch distance d_th on the sine path (m)",
     "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",

@@ -294,6 +294,34 @@ def test_spnn_switch_memory_reaches_spnns_hard_switch_only() -> None:
         OURS.with_(spnn_switch_memory=10.0).agent_env_kwargs("spnn")
 
 
+def test_pnn_avoidance_column_adds_the_avoidance_column_to_pnns_runs_on_its_paths() -> None:
+    """pnn_avoidance_column=straight: PNN's straight runs read [pf_straight, oa] with the path
+    follower as their reference prior; PNN's sine runs and every other run keep their spec and
+    hash; a one-agent study of PNN then trains the avoidance column it needs."""
+    _, default = _spnn_gates()
+    _, wider = _spnn_gates((("pnn_avoidance_column", "straight"),))
+    for run_id, spec in default.items():
+        other = wider[run_id]
+        changed = run_id == "pnn-straight-s0"
+        assert (spec.config_hash() != other.config_hash()) == changed, run_id
+        if changed:
+            assert other.deps == ("prior-pf_straight-s0", "prior-oa-s0")
+            assert other.sac_kwargs["policy_kwargs"]["reference_prior"] == 0
+    pnn_only = build_plan(
+        StudyConfig(
+            budget_name="tiny",
+            seeds=1,
+            agents=("pnn",),
+            setup_changes=(("pnn_avoidance_column", "both"),),
+        )
+    )
+    assert "prior-oa-s0" in {s.run_id for s in pnn_only}
+    assert parse_setup_changes(["pnn_avoidance_column=true"]) == {"pnn_avoidance_column": True}
+    assert OURS.with_(pnn_avoidance_column=True).pnn_avoidance_column == "both"
+    with pytest.raises(ValueError, match=r"pnn_avoidance_column='left' is not allowed"):
+        OURS.with_(pnn_avoidance_column="left")
+
+
 @pytest.mark.parametrize(
     ("factor", "value"),
     [
