@@ -306,12 +306,6 @@ class ProgressivePolicy(DiscreteSACPolicy):
         layers and the new column's own output layer starts at zero
         (:meth:`.columns.ProgressiveNet.start_as_priors_`; not in the paper, which starts the
         new column at random). A PNN needs exactly one prior for it, or ``reference_prior``
-    :param reference_prior: With several priors, the index of the one whose policy a PNN
-        starts as (``start_as_prior``; the other priors' output laterals then start at zero)
-        and that ``prior_kl`` pulls toward, e.g. 0 for a PNN that reads a path-following
-        column first and an obstacle-avoidance column beside it, as eq. 13 reads every
-        earlier column (the paper's PNN has the path follower alone). None (default): every
-        prior (the KL term's reference is their mean)
     :param init_from_prior: The new column starts as a copy of the first prior's column (the
         actor's from the prior's actor, critic i's from the prior's critic i mod n; observation
         inputs the prior does not see get zero first-layer weights): section 3.1's "the
@@ -334,6 +328,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         for smooth control") for a categorical policy. It discourages a policy that turns left
         on one control step and right on the next (not in the paper; 0: off). With n-step
         returns it needs a ``Dict`` observation, whose replay buffer samples s_t+1 beside s_t+n
+    :param reference_prior: With several priors, the index of the one whose policy a PNN
+        starts as (``start_as_prior``; the other priors' output laterals then start at zero)
+        and that ``prior_kl`` pulls toward, e.g. 0 for a PNN that reads a path-following
+        column first and an obstacle-avoidance column beside it, as eq. 13 reads every
+        earlier column (the paper's PNN has the path follower alone). None (default): every
+        prior (the KL term's reference is their mean)
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -363,8 +363,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
         init_from_prior: bool = False,
         prior_kl: float = 0.0,
         prior_kl_clearance: float | None = None,
-        reference_prior: int | None = None,
         action_smoothness: float = 0.0,
+        reference_prior: int | None = None,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         for name, value in (("prior_kl", prior_kl), ("action_smoothness", action_smoothness)):
