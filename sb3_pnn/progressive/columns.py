@@ -240,14 +240,14 @@ class ProgressiveNet(nn.Module):
         With ``only=j`` the output starts as prior j's alone: the other priors' output laterals
         start at zero weight and bias (scale 1, so that they learn from there).
         """
+        last = len(self.layers) - 1
+        if not self.priors:
+            raise ValueError("start_as_priors_ needs prior columns; this column has none")
         if only is not None and not 0 <= only < len(self.priors):
             raise ValueError(
                 f"only={only!r} is not allowed: expected None or a prior index in "
                 f"[0, {len(self.priors) - 1}]"
             )
-        last = len(self.layers) - 1
-        if not self.priors:
-            raise ValueError("start_as_priors_ needs prior columns; this column has none")
         if not multiplier > 0:
             raise ValueError(f"multiplier must be > 0, got {multiplier!r}")
         own = self.layers[last]

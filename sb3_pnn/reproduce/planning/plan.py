@@ -63,7 +63,7 @@ def agent_priors(setup: TrainingSetup, agent: str, path: str) -> tuple[str, ...]
     """The source columns ``agent`` reads on planning path ``path``, in its priors' order:
     :data:`AGENTS`' and, for PNN where ``pnn_avoidance_column`` is on, the avoidance column."""
     names = tuple(t.format(path=path) for t in AGENTS[agent])
-    if agent == "pnn" and setup.on_path("pnn_avoidance_column", path):
+    if agent == "pnn" and setup.pnn_reads_avoidance(path):
         names += ("oa",)
     return names
 

@@ -778,10 +778,14 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
             kwargs["policy_kwargs"]["gate_latch_key"] = "latch"
-        if agent == "pnn" and self.pnn_avoidance_column != "neither":  # named only when on
-            if self.on_path("pnn_avoidance_column", path):
-                kwargs["policy_kwargs"]["reference_prior"] = 0
+        if agent == "pnn" and self.pnn_reads_avoidance(path):  # named only when on
+            kwargs["policy_kwargs"]["reference_prior"] = 0
         return kwargs
+
+    def pnn_reads_avoidance(self, path: str) -> bool:
+        """Whether PNN's runs on planning path ``path`` read the avoidance column beside the
+        path-following one (``pnn_avoidance_column``), with the latter as their reference."""
+        return self.pnn_avoidance_column != "neither" and self.on_path("pnn_avoidance_column", path)
 
     def spnn_latch_of(self, path: str) -> tuple[float, float] | None:
         """The ``obstacle_latch`` (on, off) in metres of SPNN's runs on planning path ``path``:
