@@ -167,6 +167,10 @@ Factors:
   the vehicle leaves the view when it turns away.
 * ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
   a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
+* ``los_lookahead``: the LOS lookahead Delta (m) of eq. 16 in every task with a path (the paper
+  gives none; rov_envs' 5 m): a_c, which the "path" part observes and eq. 18/19 charge, is
+  measured from the course toward the path point Delta ahead, so a vehicle d m off the path
+  reads atan(d / Delta) of heading error while parallel to it.
 * ``oa_layout``: the obstacles of the obstacle-avoidance source task: ``"avoidance"``, its own
   (2-4 cylinders of 1.5 m near the start-goal line), or ``"scatter"`` (a random field of random
   density and size, :mod:`rov_envs.sim.layouts`, none of the new layouts' generators; ours:
@@ -254,6 +258,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
 from rov_envs.physics.params import VEHICLES
 from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from sb3_pnn.common.callbacks import RANKINGS, VALIDATION_EPISODES, VALIDATION_EVERY
@@ -372,6 +377,7 @@ class TrainingSetup:
     planning_obstacle_penalty: float = 1.0
     sonar_span: float = 180.0
     sonar_sectors: int = 9
+    los_lookahead: float = DEFAULT_LOOKAHEAD
 
     def __post_init__(self) -> None:
         if self.vehicle not in VEHICLES:
@@ -473,6 +479,11 @@ class TrainingSetup:
             raise ValueError(
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
                 "(degrees)"
+            )
+        if not (is_finite_number(self.los_lookahead) and 0.5 <= self.los_lookahead <= 100.0):
+            raise ValueError(
+                f"los_lookahead={self.los_lookahead!r} is not allowed: expected a distance in "
+                "[0.5, 100] (m)"
             )
         for name in ("spnn_d_th", "spnn_d_th_sine"):
             value = getattr(self, name)
@@ -626,6 +637,8 @@ class TrainingSetup:
         if not math.isclose(span, SONAR_SPAN) or self.sonar_sectors != SONAR_SECTORS:
             # named only off the tasks' own sonar, so earlier runs keep their hash
             kwargs.update(sonar_span=span, sonar_sectors=self.sonar_sectors)
+        if self.los_lookahead != DEFAULT_LOOKAHEAD:  # named only off rov_envs' 5 m (hashes)
+            kwargs["los_lookahead"] = float(self.los_lookahead)
         return kwargs
 
     def agent_env_kwargs(self, agent: str, path: str = "") -> dict[str, Any]:
@@ -1099,6 +1112,7 @@ FACTOR_LABELS: dict[str, str] = {
     "sonar_span": "sonar span S (deg, centred ahead)",
     "sonar_sectors": "sonar sectors q",
     "heading_rule": "heading rule of the planning tasks reads",
+    "los_lookahead": "LOS lookahead Delta of eq. 16 (m)",
     "oa_layout": "obstacles of the avoidance task",
     "oa_corridor": "corridor half-width of the avoidance task (m)",
     "oa_time_limit": "time limit of the avoidance task's training episodes (s)",

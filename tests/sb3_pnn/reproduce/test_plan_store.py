@@ -527,6 +527,37 @@ def test_sonar_span_and_sectors_reach_every_task_only_off_the_default() -> None:
             OURS.with_(**dict([bad]))
 
 
+def test_los_lookahead_reaches_the_path_tasks_only_off_the_default() -> None:
+    """los_lookahead: the env keyword of every run, named only off rov_envs' 5 m (earlier runs
+    keep their hash); the path-following task then reads a_c from the course toward the path
+    point Delta ahead (atan(d / Delta) off the path, heading along it); bad values refused."""
+    import gymnasium as gym
+
+    import rov_envs  # noqa: F401 - registers the tasks
+    from sb3_pnn.reproduce.planning.setups import OURS
+
+    assert "los_lookahead" not in OURS.env_kwargs()
+    long = OURS.with_(los_lookahead=10.0)
+    headings = []
+    for setup in (OURS, long):
+        kwargs = {**setup.train_env_kwargs("rov_envs/PathFollowingStraight-v0")}
+        kwargs["start_noise"] = [0.0, 0.0]
+        env = gym.make("rov_envs/PathFollowingStraight-v0", **kwargs)
+        env.reset(seed=0)
+        obs = env.unwrapped.set_pose(20.0, 4.0, 0.0)
+        headings.append(float(obs["path"][0]) * math.pi)
+    # heading along the line 4 m to its left: the course points atan(4 / Delta) back to it
+    assert abs(headings[0]) == pytest.approx(math.atan(4.0 / 5.0), abs=1e-4)
+    assert abs(headings[1]) == pytest.approx(math.atan(4.0 / 10.0), abs=1e-4)
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["los_lookahead=10"]).items())
+    changed = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    assert all(s.config_hash() != plain[s.run_id].config_hash() for s in changed)
+    for bad in (0.1, 200.0, float("nan")):
+        with pytest.raises(ValueError, match="los_lookahead=.* is not allowed"):
+            OURS.with_(los_lookahead=bad)
+
+
 LEARNERS = ("pnn", "spnn", "sac_single", "sac_multi")
 
 
