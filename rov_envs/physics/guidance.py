@@ -47,6 +47,7 @@ __all__ = [
     "SINE_AMPLITUDE",
     "SINE_WAVELENGTH",
     "DEFAULT_LOOKAHEAD",
+    "LOOKAHEAD_RANGE",
     "wrap_to_pi",
     "los_from_closest_point",
     "los_straight",
@@ -63,6 +64,8 @@ SINE_PATH_LENGTH = 120.0
 SINE_AMPLITUDE = 15.0
 SINE_WAVELENGTH = 120.0
 DEFAULT_LOOKAHEAD = 5.0
+#: The lookaheads (m) the tasks accept: ``los_lookahead`` in [low, high].
+LOOKAHEAD_RANGE = (0.5, 100.0)
 
 _TWO_PI = 2.0 * math.pi
 _GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from rov_envs.physics.dynamics import DEFAULT_CONTROL_PERIOD
-from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
+from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD, LOOKAHEAD_RANGE
 from rov_envs.physics.params import DEFAULT_VEHICLE, VEHICLES
 from rov_envs.sim.layouts import LAYOUT_CODES
 from rov_envs.sim.tasks import HEADING_REFERENCES, PATH_SINE, TASKS, TaskSpec
@@ -418,7 +418,10 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
         "render_mode": render_mode,
         "heading_reference": heading_reference,
         "los_lookahead": _in_range(
-            "los_lookahead", args.get("los_lookahead", DEFAULTS["los_lookahead"]), 0.5, 100.0, "m"
+            "los_lookahead",
+            args.get("los_lookahead", DEFAULTS["los_lookahead"]),
+            *LOOKAHEAD_RANGE,
+            "m",
         ),
         "path_obs": _boolean("path_obs", args.get("path_obs", task.path_obs)),
         "goal_obs": _boolean("goal_obs", args.get("goal_obs", task.goal_obs)),

@@ -167,10 +167,11 @@ Factors:
   the vehicle leaves the view when it turns away.
 * ``heading_rule``: what the planning tasks' failure |a_c| >= pi/2 (eq. 21) reads: ``"path"``,
   a_c of the LOS course as the paper; ``"goal"``, the deviation from the goal's bearing.
-* ``los_lookahead``: the LOS lookahead Delta (m) of eq. 16 in every task with a path (the paper
-  gives none; rov_envs' 5 m): a_c, which the "path" part observes and eq. 18/19 charge, is
-  measured from the course toward the path point Delta ahead, so a vehicle d m off the path
-  reads atan(d / Delta) of heading error while parallel to it.
+* ``los_lookahead``: the LOS lookahead Delta (m) of eq. 16 in every task (the paper gives none;
+  rov_envs' 5 m; the obstacle-avoidance task, which measures a_c from the goal, ignores it):
+  a_c, which the "path" part observes and eq. 18/19 charge, is measured from the course toward
+  the path point Delta ahead, so a vehicle d m off the path reads atan(d / Delta) of heading
+  error while parallel to it.
 * ``oa_layout``: the obstacles of the obstacle-avoidance source task: ``"avoidance"``, its own
   (2-4 cylinders of 1.5 m near the start-goal line), or ``"scatter"`` (a random field of random
   density and size, :mod:`rov_envs.sim.layouts`, none of the new layouts' generators; ours:
@@ -258,7 +259,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD
+from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD, LOOKAHEAD_RANGE
 from rov_envs.physics.params import VEHICLES
 from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from sb3_pnn.common.callbacks import RANKINGS, VALIDATION_EPISODES, VALIDATION_EVERY
@@ -480,10 +481,11 @@ class TrainingSetup:
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
                 "(degrees)"
             )
-        if not (is_finite_number(self.los_lookahead) and 0.5 <= self.los_lookahead <= 100.0):
+        low, high = LOOKAHEAD_RANGE  # the tasks' own range, checked here before float() below
+        if not (is_finite_number(self.los_lookahead) and low <= self.los_lookahead <= high):
             raise ValueError(
                 f"los_lookahead={self.los_lookahead!r} is not allowed: expected a distance in "
-                "[0.5, 100] (m)"
+                f"[{low:g}, {high:g}] (m)"
             )
         for name in ("spnn_d_th", "spnn_d_th_sine"):
             value = getattr(self, name)
