@@ -44,6 +44,11 @@ Factors:
   a start pose perturbed by this multiple of (1 m, 5 deg) instead (None: 1), so that the column
   learns to come back to the path from as far as the avoidance column leaves the vehicle.
   ``planning_start_spread`` is the same multiple for the learners' planning tasks (None: 1).
+* ``learner_sonar_noise``: std (m) of Gaussian noise on every sonar return in the learners'
+  planning-task training episodes only (rov_envs' ``sonar_noise``; their validation checks, the
+  evaluation and the source columns read the sonar noise-free; 0: none, the paper). A
+  randomization of the observation, so that a learner that trains on one fixed layout does
+  not key its avoidance to that layout's exact readings.
 * ``motion_obs``: the observation also holds sway v and yaw rate r (``motion_obs=True``); the
   paper's state is o = [a_c, g, d_1..d_q] (section 4.2.2).
 * ``success_reward``: reward on reaching the target (0 = eq. 17-21 literally).
@@ -275,6 +280,17 @@ from sb3_pnn.progressive.selective_policy import (
 #: The start-pose noise of training episodes when ``train_start_noise`` is on: the evaluation
 #: library's default (sb3_pnn.evaluation.DEFAULT_START_NOISE), 1 m and 5 degrees.
 TRAIN_START_NOISE: tuple[float, float] = (1.0, math.radians(5.0))
+#: Keywords of :meth:`TrainingSetup.train_env_kwargs` that perturb training episodes only: a
+#: run's validation checks play its training task without them, as the evaluation does.
+TRAINING_ONLY_ENV_KWARGS: tuple[str, ...] = ("start_noise", "sonar_noise")
+
+
+def validation_env_kwargs(train_kwargs: dict[str, Any]) -> dict[str, Any]:
+    """A run's training env keywords as its validation checks play them: without the
+    training-only perturbations (the checks apply the evaluation's start noise)."""
+    return {k: v for k, v in train_kwargs.items() if k not in TRAINING_ONLY_ENV_KWARGS}
+
+
 #: Uniformly random steps before the first update, for every set-up and agent alike: one batch.
 LEARNING_STARTS = 256
 
@@ -320,6 +336,7 @@ class TrainingSetup:
     train_start_noise: bool = False
     pf_start_spread: float | None = None
     planning_start_spread: float | None = None
+    learner_sonar_noise: float = 0.0
     motion_obs: bool = False
     success_reward: float = 0.0
     progress_weighted: bool = False
@@ -555,6 +572,14 @@ class TrainingSetup:
                     f"{name}={spread!r} is not allowed: expected a number in [0, 30] (a "
                     "multiple of 1 m and 5 deg), or None for train_start_noise's value"
                 )
+        from rov_envs.sim.config import SONAR_RANGE
+
+        noise = self.learner_sonar_noise
+        if not (is_finite_number(noise) and 0 <= noise <= SONAR_RANGE):
+            raise ValueError(
+                f"learner_sonar_noise={noise!r} is not allowed: expected a std in "
+                f"[0, {SONAR_RANGE:g}] (m, at most the sonar's range)"
+            )
         clearance = self.pnn_prior_kl_clearance
         if clearance is not None and not (is_finite_number(clearance) and clearance > 0):
             raise ValueError(
@@ -671,7 +696,8 @@ class TrainingSetup:
         return {}
 
     def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
-        """Keyword arguments of the training environment (start noise included); for
+        """Keyword arguments of the training environment (start noise and the learners' sonar
+        noise included, :data:`TRAINING_ONLY_ENV_KWARGS`); for
         ``env_id``'s task also the obstacles it trains on (``oa_layout`` for the
         obstacle-avoidance task, ``planning_layout`` for the planning tasks), when they are not
         the task's own."""
@@ -683,6 +709,11 @@ class TrainingSetup:
         layout = self._training_layout(env_id) if env_id is not None else None
         if layout is not None:
             kwargs["layout"] = layout
+        if env_id is not None and self.learner_sonar_noise:
+            from rov_envs.sim.tasks import task_of_env
+
+            if task_of_env(env_id).name.startswith("Planning"):  # the learners' tasks
+                kwargs["sonar_noise"] = float(self.learner_sonar_noise)
         if env_id is not None:
             from rov_envs.sim.tasks import task_of_env
 
@@ -1066,6 +1097,7 @@ FACTOR_LABELS: dict[str, str] = {
     "train_start_noise": "training start noise",
     "pf_start_spread": "path-following columns' training start noise (x 1 m, 5 deg)",
     "planning_start_spread": "learners' training start noise (x 1 m, 5 deg)",
+    "learner_sonar_noise": "learners' training sonar noise std (m)",
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from sb3_pnn.reproduce.planning.plan import AGENT_LABELS, RunSpec
+from sb3_pnn.reproduce.planning.setups import validation_env_kwargs
 
 #: First evaluation seed (training seeds are 0..seeds-1; evaluation episodes are others).
 EVAL_SEED = 10_000
@@ -88,9 +89,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
     callbacks: list[Any] = [recorder]
     keeper = None
     if spec.validation:
-        # the training task as evaluated: the training kwargs without the training start noise
-        # (validation applies the evaluation's own)
-        env_kwargs = {k: v for k, v in spec.env_kwargs.items() if k != "start_noise"}
+        env_kwargs = validation_env_kwargs(spec.env_kwargs)  # the training task as evaluated
         keeper = KeepBestOnValidation(
             str(spec.env_id),
             every=int(spec.validation["every"]),

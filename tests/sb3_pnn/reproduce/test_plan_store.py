@@ -558,6 +558,38 @@ def test_los_lookahead_reaches_the_path_tasks_only_off_the_default() -> None:
             OURS.with_(los_lookahead=bad)
 
 
+def test_learner_sonar_noise_perturbs_the_learners_training_episodes_only() -> None:
+    """learner_sonar_noise: the learners' training env reads a noisy sonar; their validation
+    checks, their evaluation and the source columns' runs read it noise-free (the columns keep
+    their hash); the noise is real (the same pose near an obstacle reads otherwise); bad values
+    refused."""
+    import gymnasium as gym
+    import numpy as np
+
+    from sb3_pnn.reproduce.planning.setups import validation_env_kwargs
+
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["learner_sonar_noise=1.0"]).items())
+    noisy = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    for spec in noisy:
+        learner = spec.kind == "transfer"
+        assert ("sonar_noise" in spec.env_kwargs) is learner, spec.run_id
+        assert (spec.config_hash() != plain[spec.run_id].config_hash()) is learner, spec.run_id
+        assert all("sonar_noise" not in kwargs for _, _, kwargs in spec.eval_tasks)
+        assert "sonar_noise" not in validation_env_kwargs(spec.env_kwargs)
+    spec = next(s for s in noisy if s.run_id == "spnn-straight-s0")
+    readings = []
+    for kwargs in (spec.env_kwargs, validation_env_kwargs(spec.env_kwargs)):
+        env = gym.make(spec.env_id, **kwargs)
+        env.reset(seed=0)
+        x, y, _ = env.unwrapped.obstacles[0]
+        readings.append(np.asarray(env.unwrapped.set_pose(x - 8.0, y, 0.0)["sonar"]))
+    assert np.abs(readings[0] - readings[1]).max() > 0.005  # 1 m of 25: well above rounding
+    for bad in (-1.0, 30.0, float("nan")):
+        with pytest.raises(ValueError, match="learner_sonar_noise=.* is not allowed"):
+            OURS.with_(learner_sonar_noise=bad)
+
+
 LEARNERS = ("pnn", "spnn", "sac_single", "sac_multi")
 
 
