@@ -307,7 +307,8 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
     def add_single(cell: AblationCell, task: str, seed: int, share: float) -> str:
         rid = run_id(cell.name, task, seed) if share == 1.0 else reduced_column_id(cell.name, task)
         if rid not in runs:
-            episodes = max(1, round(budget.episodes[task] * share))
+            episodes = cell.setup.column_episodes(task, budget.episodes[task])  # oa_budget
+            episodes = max(1, round(episodes * share))
             runs[rid] = prior_run(task, seed, episodes, cell.setup, budget.eval_episodes, rid)
         return rid
 

@@ -330,7 +330,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         prior_run(
                             name,
                             seed,
-                            budget.prior_episodes[name],
+                            setup.column_episodes(name, budget.prior_episodes[name]),
                             setup,
                             budget.eval_episodes,
                             prior_run_id(name, seed),

@@ -192,6 +192,11 @@ Factors:
   A column that may take 120 s can cross its field at half the speed of "Go straight"; a
   shorter limit keeps only the columns (and checks) that pass obstacles at pace, which is the
   pace SPNN's new column inherits within d_th.
+* ``oa_budget``: the obstacle-avoidance source column's training episodes, as a multiple of
+  the study budget's (1: the budget's 300; its validation checks keep their schedule, so a
+  longer run has more checks to keep one from). Its runs are the weakest source columns
+  (kept checks 90-100 %, still rising at the budget's end on some seeds), and SPNN's collisions
+  among drawn obstacles happen with that column in control.
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
   so that it reads there what it was trained on, in the SPNN's planning runs; no other run
@@ -387,6 +392,7 @@ class TrainingSetup:
     oa_layout: str = "avoidance"
     oa_corridor: float | None = None
     oa_time_limit: float | None = None
+    oa_budget: float = 1.0
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     prior_candidates_pf_straight: int | None = None
@@ -615,6 +621,11 @@ class TrainingSetup:
             raise ValueError(
                 f"oa_time_limit={limit!r} is not allowed: expected simulated seconds in "
                 "[10, 1000], or None for the task's own (120 s)"
+            )
+        if not (is_finite_number(self.oa_budget) and 0 < self.oa_budget <= 20):
+            raise ValueError(
+                f"oa_budget={self.oa_budget!r} is not allowed: expected a multiple in (0, 20] of "
+                "the budget's avoidance-column episodes"
             )
         penalty = self.planning_obstacle_penalty
         if isinstance(penalty, bool) or not is_finite_number(penalty) or penalty < 0:
@@ -928,6 +939,13 @@ class TrainingSetup:
         refined = getattr(self, f"{name}_pf_straight") if column == "pf_straight" else None
         return getattr(self, name) if refined is None else refined
 
+    def column_episodes(self, column: str, budget_episodes: int) -> int:
+        """Training episodes of source column ``column`` for a budget that gives it
+        ``budget_episodes``: scaled by ``oa_budget`` for the avoidance column (at least 1)."""
+        if column != "oa" or self.oa_budget == 1:
+            return int(budget_episodes)
+        return max(1, round(budget_episodes * self.oa_budget))
+
     def column_candidates(self, column: str) -> int:
         """How many training runs source column ``column`` (``pf_straight``, ``pf_sine`` or
         ``oa``) is the best of: ``prior_candidates``, or ``prior_candidates_pf_straight`` for
@@ -1150,6 +1168,7 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_layout": "obstacles of the avoidance task",
     "oa_corridor": "corridor half-width of the avoidance task (m)",
     "oa_time_limit": "time limit of the avoidance task's training episodes (s)",
+    "oa_budget": "avoidance column's training episodes (x the budget's)",
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
     "prior_candidates_pf_straight": "straight path-following column: best of this many runs",
