@@ -194,9 +194,9 @@ Factors:
   pace SPNN's new column inherits within d_th.
 * ``oa_budget``: the obstacle-avoidance source column's training episodes, as a multiple of
   the study budget's (1: the budget's 300; its validation checks keep their schedule, so a
-  longer run has more checks to keep one from). Its runs are the weakest source columns
-  (kept checks 90-100 %, still rising at the budget's end on some seeds), and SPNN's collisions
-  among drawn obstacles happen with that column in control.
+  longer run is the same run continued, with more checks to keep one from). The avoidance
+  skill is what SPNN's gate hands the vehicle to near obstacles, so a column that has not
+  converged caps how often SPNN passes a field of them.
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
   so that it reads there what it was trained on, in the SPNN's planning runs; no other run
@@ -720,16 +720,14 @@ class TrainingSetup:
         layout = self._training_layout(env_id) if env_id is not None else None
         if layout is not None:
             kwargs["layout"] = layout
-        if env_id is not None and self.learner_sonar_noise:
-            from rov_envs.sim.tasks import task_of_env
-
-            if task_of_env(env_id).name.startswith("Planning"):  # the learners' tasks
-                kwargs["sonar_noise"] = float(self.learner_sonar_noise)
         if env_id is not None:
             from rov_envs.sim.tasks import task_of_env
 
             kwargs.update(self.source_env_kwargs(env_id))
-            if task_of_env(env_id).name == "ObstacleAvoidance":
+            task = task_of_env(env_id).name
+            if self.learner_sonar_noise and task.startswith("Planning"):  # the learners' tasks
+                kwargs["sonar_noise"] = float(self.learner_sonar_noise)
+            if task == "ObstacleAvoidance":
                 if self.oa_corridor is not None:
                     kwargs["corridor"] = float(self.oa_corridor)
                 if self.oa_time_limit is not None:
