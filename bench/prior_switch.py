@@ -33,13 +33,11 @@ import rov_envs  # noqa: F401 - registers the tasks
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.evaluation.evaluate import trained_env_kwargs
+from sb3_pnn.progressive.switch_memory import remembered_switch
 from sb3_pnn.reproduce.planning.setups import OURS
 from sb3_pnn.reproduce.running.work import EVAL_SEED
 from sb3_pnn.reproduce.tools.drawn_layouts import LAYOUT
-from sb3_pnn.reproduce.tools.spnn_switch_distance import (
-    add_hysteresis_argument,
-    remembered_switch,
-)
+from sb3_pnn.reproduce.tools.spnn_switch_distance import add_hysteresis_argument
 
 #: (label, env id, extra env keywords): the study's evaluation tasks, by path.
 TASKS = {

@@ -7,6 +7,7 @@ from sb3_pnn.progressive.prior_loading import PriorCheckpoint, PriorSpec, load_p
 from sb3_pnn.progressive.progressive_policy import ProgressivePolicy
 from sb3_pnn.progressive.sac_multi import make_sac_multi
 from sb3_pnn.progressive.selective_policy import SelectivePolicy
+from sb3_pnn.progressive.switch_memory import SwitchMemory
 
 __all__ = [
     "DistanceGate",
@@ -16,6 +17,7 @@ __all__ = [
     "PriorSpec",
     "ProgressivePolicy",
     "SelectivePolicy",
+    "SwitchMemory",
     "load_prior",
     "make_sac_multi",
     "match_prior_obs",

@@ -3,11 +3,12 @@ training task and the new layouts of Figure 20 (or among obstacles drawn afresh)
 
 Eq. 15's hard gate hands control to the obstacle-avoidance column when the nearest obstacle is
 within d_th. Changing d_th in a trained policy asks whether the new layouts fail because the
-gate switches too late or too early. ``--hysteresis H`` gives the switch a memory instead: once
-the avoidance column has control it keeps it until the nearest reading is beyond d_th + H (each
-episode starts memoryless). The 180-degree sonar loses an obstacle when the vehicle turns its
-back to it, and eq. 15's memoryless switch then hands control back to the path follower,
-which turns the vehicle back toward the obstacle. Episodes run on the validation seeds
+gate switches too late or too early. ``--hysteresis H`` gives the switch a memory instead
+(:class:`sb3_pnn.progressive.switch_memory.SwitchMemory`): once the avoidance column has
+control it keeps it until the nearest reading is beyond d_th + H (each episode starts
+memoryless). The 180-degree sonar loses an obstacle when the vehicle turns its back to it, and
+eq. 15's memoryless switch then hands control back to the path follower, which turns the
+vehicle back toward the obstacle. Episodes run on the validation seeds
 (20000+, never the study's evaluation seeds 10000+), 1 m / 5 deg start noise, deterministic
 actions; nothing is chosen here. ``--drawn-layouts`` replaces the new layouts by the training
 task among obstacles drawn afresh by the ``scatter`` generator (the validation measure of
@@ -29,11 +30,11 @@ from typing import Any
 import numpy as np
 import torch as th
 
-from rov_envs.sim.engine import schmitt_trigger
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.progressive.switch_memory import SwitchMemory
 from sb3_pnn.reproduce.planning.plan import EVAL_TASKS
 from sb3_pnn.reproduce.planning.setups import OURS
 
@@ -62,43 +63,6 @@ def add_hysteresis_argument(parser: argparse.ArgumentParser) -> None:
         help="once the avoidance column has control, keep it until the nearest obstacle is "
         "beyond d_th + H (m); 0: eq. 15's memoryless switch; several values: one row each",
     )
-
-
-def remembered_switch(
-    nearest: np.ndarray,
-    previous: np.ndarray | None,
-    d_th: float,
-    hysteresis: float,
-    episode_start: np.ndarray | None,
-) -> np.ndarray:
-    """Per vehicle, whether the avoidance column has control: within ``d_th`` of the nearest
-    obstacle (eq. 15), or it had control on the step before (``previous``) and the obstacle is
-    still within ``d_th + hysteresis``; a vehicle starting an episode has no memory."""
-    if previous is None or previous.shape != np.shape(nearest):
-        return nearest <= d_th
-    starting = np.zeros_like(previous) if episode_start is None else np.asarray(episode_start)
-    return schmitt_trigger(nearest, previous & ~starting.astype(bool), d_th, d_th + hysteresis)
-
-
-class SwitchWithMemory:
-    """A trained SPNN whose hard gate keeps the avoidance column until the nearest reading is
-    beyond ``d_th + hysteresis`` (``predict`` as SB3's, one memory per vehicle of the batch)."""
-
-    def __init__(self, model: DiscreteSAC, d_th: float, hysteresis: float):
-        self.model, self.d_th, self.hysteresis = model, d_th, hysteresis
-        self.gate = model.policy.actor.gate
-        self.near: np.ndarray | None = None
-
-    def predict(self, obs, state=None, episode_start=None, deterministic=True):
-        nearest = obs[self.gate.sonar_key].min(axis=-1) * self.gate.sonar_range
-        near = remembered_switch(nearest, self.near, self.d_th, self.hysteresis, episode_start)
-        self.near = near
-        # the gate selects per sample: d_th above or below every reading decides it
-        self.gate.d_th = th.as_tensor(np.where(near, np.inf, -np.inf), dtype=th.float32)
-        try:
-            return self.model.predict(obs, deterministic=deterministic)
-        finally:
-            self.gate.d_th = self.d_th
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -143,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
         for d_th in args.d_th:
             for hysteresis in args.hysteresis:
                 model.policy.actor.gate.d_th = d_th  # the actor's gate decides the actions
-                policy = SwitchWithMemory(model, d_th, hysteresis) if hysteresis > 0 else model
+                policy = SwitchMemory(model, hysteresis, d_th) if hysteresis > 0 else model
                 for label, env_id, extra in tasks:
                     result = evaluate_policy_on_task(
                         policy,
