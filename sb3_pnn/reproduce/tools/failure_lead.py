@@ -70,7 +70,7 @@ def leads(model: Any, env: gym.Env, episodes: int, last: int) -> dict[str, Any]:
 
 
 def ending_cells(endings: Counter) -> str:
-    """``collision: avoid 24, path 0; success: ...`` for one run's endings by leader."""
+    """``collision: path 0, avoid 24; success: ...`` for one run's endings by leader."""
     reasons = sorted({reason for reason, _ in endings})
     return "; ".join(
         f"{reason}: " + ", ".join(f"{SHORT[j]} {endings[(reason, j)]}" for j in range(len(SHORT)))
