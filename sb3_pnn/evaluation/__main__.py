@@ -6,6 +6,8 @@ Example::
     python -m sb3_pnn.evaluate --model runs/spnn.zip --env rov_envs/PlanningSineDense-v0 \\
         --seed 1000 --out results.json
     python -m sb3_pnn.evaluate --model adaptive_pid --env PlanningSine-v0 --vehicle wu2018
+    python -m sb3_pnn.evaluate --model runs/spnn.zip --env PlanningStraightDense-v0 \\
+        --switch-memory 10
 
 ``--model`` is a baseline name (``pid``, ``adaptive_pid``) or the path of a model zip saved by
 ``DiscreteSAC.save`` (progressive policies included). Prints a table of the statistics of
@@ -71,6 +73,15 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="KEY:VALUE",
         help="env keyword arguments (Python literals, e.g. control_period:0.5), over those the "
         "model was trained with",
+    )
+    p.add_argument(
+        "--switch-memory",
+        type=float,
+        default=None,
+        metavar="H",
+        help="play an SPNN whose gate is eq. 15's hard switch with a memory: the avoidance "
+        "column keeps control until the nearest reading is beyond d_th + H metres "
+        "(sb3_pnn.progressive.SwitchMemory; the study's spnn_play_memory)",
     )
     p.add_argument("--record", type=int, default=0, help="keep the first K trajectories")
     p.add_argument("--stochastic", action="store_true", help="sample actions (default: greedy)")
@@ -153,6 +164,14 @@ def run(argv: Sequence[str] | None = None) -> int:
         if args.vehicle is not None:
             given["vehicle"] = args.vehicle
         policy, name = load_policy(args.model)
+        env_kwargs = {**trained_env_kwargs(policy, env_id), **given}
+        if args.switch_memory is not None:
+            from sb3_pnn.progressive.switch_memory import SwitchMemory
+
+            try:
+                policy = SwitchMemory(policy, hysteresis=args.switch_memory)
+            except ValueError as exc:
+                raise _UsageError(f"--switch-memory {args.switch_memory}: {exc}") from exc
         try:
             result = evaluate_policy_on_task(
                 policy,
@@ -160,7 +179,7 @@ def run(argv: Sequence[str] | None = None) -> int:
                 n_episodes=args.episodes,
                 seed=args.seed,
                 start_noise=(pos, math.radians(head)),
-                env_kwargs={**trained_env_kwargs(policy, env_id), **given},
+                env_kwargs=env_kwargs,
                 record_trajectories=args.record,
                 deterministic=not args.stochastic,
                 policy_name=name,

@@ -221,12 +221,15 @@ class RunSpec:
     # {"every": N, "episodes": K[, "drawn_episodes": D][, "rank_by": "route"]}: keep the best
     # policy on validation episodes (empty: the last)
     validation: dict[str, int | str] = field(default_factory=dict)
+    # {"switch_memory": H}: evaluate the trained SPNN through SwitchMemory (empty: as trained)
+    play: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         data = json.loads(json.dumps(asdict(self)))
-        if not data["validation"]:
-            # left out when off, so that runs made before the field existed keep their hash
-            del data["validation"]
+        for key in ("validation", "play"):
+            if not data[key]:
+                # left out when off, so that runs made before the field existed keep their hash
+                del data[key]
         return data
 
     @classmethod
@@ -388,6 +391,14 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                         env_kwargs={**setup.train_env_kwargs(PLANNING_ENVS[path]), **own_env},
                         validation=setup.validation(learner=True),
+                        play=play_of(setup, agent, path),
                     )
                 )
     return runs
+
+
+def play_of(setup: TrainingSetup, agent: str, path: str) -> dict[str, float]:
+    """How the study evaluates learner ``agent``'s runs on ``path`` (RunSpec.play): SPNN's
+    through a switch memory where ``spnn_play_memory`` acts, else as trained (empty)."""
+    memory = setup.spnn_play_memory_of(path) if agent == "spnn" else None
+    return {} if memory is None else {"switch_memory": memory}

@@ -123,6 +123,11 @@ Factors:
   from a reading within d_th until one beyond d_th + H (``SelectivePolicy(gate_latch_key=
   "latch")``). None (the paper): eq. 15's switch without memory. Only SPNN runs on a path
   whose gate is the hard switch read it.
+* ``spnn_play_memory``: H (m), the same memory at evaluation only: SPNN's runs train and keep
+  their policy with eq. 15's switch, and the study evaluates them through
+  :class:`sb3_pnn.progressive.SwitchMemory` (the avoidance column keeps control until the
+  nearest reading is beyond d_th + H). None (the paper): evaluated as trained. Ours: 10 m
+  (docs/ablation section 47). Only SPNN runs on a path whose gate is the hard switch read it.
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -196,7 +201,8 @@ Factors:
   the study budget's (1: the budget's 300; its validation checks keep their schedule, so a
   longer run is the same run continued, with more checks to keep one from). The avoidance
   skill is what SPNN's gate hands the vehicle to near obstacles, so a column that has not
-  converged caps how often SPNN passes a field of them.
+  converged caps how often SPNN passes a field of them. Ours: 2 (with ``spnn_play_memory``,
+  docs/ablation section 47).
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
   so that it reads there what it was trained on, in the SPNN's planning runs; no other run
@@ -369,6 +375,7 @@ class TrainingSetup:
     spnn_gate_temperature: float = 2.0
     spnn_gate_corridor: float | None = None
     spnn_switch_memory: float | None = None
+    spnn_play_memory: float | None = None
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -545,6 +552,18 @@ class TrainingSetup:
             raise ValueError(
                 f"spnn_switch_memory={memory!r} is not allowed: expected a distance in [0, 100] "
                 "(m), or None for eq. 15's switch without memory"
+            )
+        memory = self.spnn_play_memory
+        if memory is not None and not (is_finite_number(memory) and 0 < memory <= 100):
+            raise ValueError(
+                f"spnn_play_memory={memory!r} is not allowed: expected a distance in (0, 100] "
+                "(m), or None to evaluate SPNN with eq. 15's switch as trained"
+            )
+        if memory is not None and self.spnn_switch_memory is not None:
+            raise ValueError(
+                f"spnn_play_memory={memory!r} is not allowed with spnn_switch_memory="
+                f"{self.spnn_switch_memory!r}: a run trained with the latch part already plays "
+                "with its memory; set one of them to null"
             )
         temperature = self.spnn_gate_temperature
         if not (is_finite_number(temperature) and temperature > 0):
@@ -858,6 +877,14 @@ class TrainingSetup:
         d_th = float(self._policy_value("spnn_d_th", path)[0])
         return (d_th, d_th + float(self.spnn_switch_memory))
 
+    def spnn_play_memory_of(self, path: str) -> float | None:
+        """The hysteresis H (m) with which the study evaluates SPNN's runs on planning path
+        ``path`` through :class:`sb3_pnn.progressive.SwitchMemory`: ``spnn_play_memory`` where
+        the path's gate is eq. 15's hard switch, else None (evaluated as trained)."""
+        if self.spnn_play_memory is None or self.spnn_gate_of(path) != "hard":
+            return None
+        return float(self.spnn_play_memory)
+
     def target_entropy_ratio_of(self, agent: str) -> float:
         """The target entropy's fraction of log|A| for a run of learner ``agent`` (``""``: a
         source column): ``learner_target_entropy_ratio`` for the learners where set, else
@@ -1083,6 +1110,7 @@ OURS = TrainingSetup(
     spnn_prior_kl=DEFAULT_PRIOR_KL,
     spnn_gate_sine="soft",
     spnn_gate_corridor=0.9,
+    spnn_play_memory=10.0,
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
     pnn_n_steps=8,
@@ -1093,6 +1121,7 @@ OURS = TrainingSetup(
     goal_distance=25.0,
     heading_rule="goal",
     oa_layout="scatter",
+    oa_budget=2.0,
 )
 
 SETUPS: dict[str, TrainingSetup] = {"ours": OURS, "paper": PAPER}
@@ -1140,6 +1169,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_gate_temperature": "SPNN soft selector's temperature (m)",
     "spnn_gate_corridor": "SPNN gate's corridor bound c (the path column beyond abs(g) = c d_L)",
     "spnn_switch_memory": "SPNN switch's memory H (m): avoidance kept until beyond d_th + H",
+    "spnn_play_memory": "SPNN evaluated with a switch memory H (m) (training unchanged)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
@@ -1205,7 +1235,7 @@ def describe_value(name: str, value: Any) -> str:
         return "as the other source columns'"
     if name == "oa_time_limit" and value is None:
         return "the task's (120 s)"
-    if name == "spnn_switch_memory" and value is None:
+    if name in ("spnn_switch_memory", "spnn_play_memory") and value is None:
         return "none (eq. 15's switch)"
     if name in SINE_PATH_FACTORS and value is None:
         return "as on the straight path"

@@ -17,7 +17,8 @@ It writes into the run's temporary folder:
 * ``eval.json``: for every run with evaluation tasks (all of them in the study), one
   :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
   ``eval_episodes`` episodes with seeds ``EVAL_SEED + i`` (the same episodes for every policy)
-  and the evaluation library's default start-pose noise.
+  and the evaluation library's default start-pose noise; a trained policy is played as
+  ``spec.play`` names (:func:`played`: SPNN through a switch memory, or as trained).
 """
 
 from __future__ import annotations
@@ -249,5 +250,15 @@ def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
     model, train_info = train_with_retries(spec, tmp, deps)
     info.update(train_info)
     if spec.eval_tasks:
-        info.update(evaluate(spec, model, tmp))
+        info.update(evaluate(spec, played(spec.play, model), tmp))
     return info
+
+
+def played(play: dict[str, Any], model: Any) -> Any:
+    """The trained ``model`` as the study evaluates it (a run spec's ``play``): through
+    :class:`sb3_pnn.progressive.SwitchMemory` where a switch memory is named, else itself."""
+    if "switch_memory" not in play:
+        return model
+    from sb3_pnn.progressive.switch_memory import SwitchMemory
+
+    return SwitchMemory(model, hysteresis=play["switch_memory"])

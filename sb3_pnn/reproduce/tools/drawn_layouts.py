@@ -8,7 +8,9 @@ to choose a set-up. This replays each run's kept policy on its planning task wit
 drawn afresh every episode by the ``scatter`` generator (``layout="scatter"``: 1-5 cylinders per
 40 m of route, radius U(0.75, 2.5) m, moved U(-10, 10) m off the route; none of the uniform /
 dense / sine_dense generators' parameters), on the validation seeds (20000+), with the run's env
-keywords otherwise, and prints each run's success rate and how its episodes ended.
+keywords otherwise, and prints each run's success rate and how its episodes ended. A policy is
+played as the study evaluated it (an SPNN run whose spec names a switch memory,
+``spnn_play_memory``, through :class:`sb3_pnn.progressive.SwitchMemory`).
 
 ``--gate-corridor C`` (SPNN runs, a diagnosis at inference) replays the policies with their gate
 bounded at abs(g) / d_L >= C (``none``: eq. 15's unbounded gate), whatever they trained with; the
@@ -41,6 +43,7 @@ from sb3_pnn.reproduce.tools.replay import (
     run_env_kwargs,
     run_folders,
     run_model,
+    run_played,
     task_id,
     task_parser,
 )
@@ -81,7 +84,7 @@ def drawn_success(
         model = run_model(parser, run)
         if args.gate_corridor is not None:
             bound_gate(parser, model, args.gate_corridor, run)
-        policy = args.agent if model is None else model
+        policy = args.agent if model is None else run_played(parser, run, model)
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
         )

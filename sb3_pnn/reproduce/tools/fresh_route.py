@@ -27,7 +27,7 @@ import torch as th
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model
+from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model, run_played
 
 #: First seed of the fresh validation episodes.
 FRESH_SEED = 40_000
@@ -58,10 +58,12 @@ def route(
     parser: argparse.ArgumentParser, run: Path, episodes: int, tasks: tuple[str, ...] = TASKS
 ) -> dict[str, dict]:
     """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
-    target (s; None without a success) of the run's kept policy on seeds 40000+."""
+    target (s; None without a success) of the run's kept policy on seeds 40000+, played as the
+    study evaluated it (a switch memory where its spec names one)."""
     evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
     model = run_model(parser, run)
-    policy = json.loads((run / "manifest.json").read_text())["agent"] if model is None else model
+    agent = json.loads((run / "manifest.json").read_text())["agent"]
+    policy = agent if model is None else run_played(parser, run, model)
     out = {}
     for task, (env_id, env_kwargs) in evaluated.items():
         result = evaluate_policy_on_task(

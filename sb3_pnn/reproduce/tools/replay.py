@@ -86,6 +86,15 @@ def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
     return DiscreteSAC.load(run / "model.zip", device="cpu")
 
 
+def run_played(parser: argparse.ArgumentParser, run: Path, model: Any) -> Any:
+    """The run's kept ``model`` played as the study evaluated it (its spec's ``play``: SPNN
+    through a switch memory where one is named, :func:`sb3_pnn.reproduce.running.work.played`)."""
+    from sb3_pnn.reproduce.running.work import played
+
+    spec = json.loads((run / "manifest.json").read_text()).get("spec") or {}
+    return played(spec.get("play") or {}, model)
+
+
 def run_baseline(run: Path, env: gym.Env) -> Any:
     """The PID baseline a baseline's run evaluated (its manifest names it), bound to ``env``."""
     return make_baseline(json.loads((run / "manifest.json").read_text())["agent"], env)

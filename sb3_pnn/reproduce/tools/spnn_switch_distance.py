@@ -6,7 +6,8 @@ within d_th. Changing d_th in a trained policy asks whether the new layouts fail
 gate switches too late or too early. ``--hysteresis H`` gives the switch a memory instead
 (:class:`sb3_pnn.progressive.switch_memory.SwitchMemory`): once the avoidance column has
 control it keeps it until the nearest reading is beyond d_th + H (each episode starts
-memoryless). The 180-degree sonar loses an obstacle when the vehicle turns its back to it, and
+memoryless; a soft gate holds the avoidance column's weight until then). The 180-degree sonar
+loses an obstacle when the vehicle turns its back to it, and
 eq. 15's memoryless switch then hands control back to the path follower, which turns the
 vehicle back toward the obstacle. Episodes run on the validation seeds
 (20000+, never the study's evaluation seeds 10000+), 1 m / 5 deg start noise, deterministic
@@ -99,10 +100,10 @@ def main(argv: list[str] | None = None) -> int:
         if not zip_path.exists():
             parser.error(f"{zip_path} does not exist: expected a study folder with SPNN runs")
         model = DiscreteSAC.load(zip_path, device="cpu")
-        if model.policy.actor.gate.mode != "hard" and args.hysteresis != [0.0]:
+        if model.policy.actor.gate.mode == "learned" and args.hysteresis != [0.0]:
             parser.error(
-                f"{zip_path} has a {model.policy.actor.gate.mode} gate: --hysteresis needs "
-                "eq. 15's hard gate"
+                f"{zip_path} has a learned gate: --hysteresis needs a distance gate (eq. 15's "
+                "hard switch or the soft gate)"
             )
         for d_th in args.d_th:
             for hysteresis in args.hysteresis:

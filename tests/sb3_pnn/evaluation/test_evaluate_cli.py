@@ -114,3 +114,16 @@ def test_zero_threads_is_a_usage_error(capsys):
     argv = ["--model", "pid", "--env", "PathFollowingSine-v0", "--num-threads", "0"]
     assert run(argv) == 2
     assert "--num-threads 0" in capsys.readouterr().err
+
+
+def test_switch_memory_needs_an_spnn_with_a_hard_switch(tmp_path, capsys):
+    """--switch-memory plays SPNN's hard switch with a memory; a model without that gate (or a
+    negative distance) is refused by name before any episode runs."""
+    from sb3_pnn import DiscreteSAC
+
+    env = gym.make("rov_envs/PathFollowingStraight-v0")
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}).save(tmp_path / "m")
+    argv = ["--model", str(tmp_path / "m.zip"), "--env", "PathFollowingStraight-v0"]
+    assert run([*argv, "--switch-memory", "10"]) == 2
+    err = capsys.readouterr().err
+    assert "--switch-memory 10.0: SwitchMemory needs an SPNN whose gate is eq. 15's hard" in err

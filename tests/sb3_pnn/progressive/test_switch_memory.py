@@ -54,15 +54,59 @@ def test_each_episode_and_each_vehicle_has_its_own_memory() -> None:
     assert action.tolist() == [1, 0]
 
 
-def test_only_a_hard_switch_without_a_latch_and_a_distance_are_accepted() -> None:
-    soft = GateOnly()
-    soft.policy.actor.gate = DistanceGate("soft", d_th=12.5, sonar_range=25.0)
+def test_only_a_distance_gate_without_a_latch_and_a_distance_are_accepted() -> None:
     latched = GateOnly()
     latched.policy.actor.gate = DistanceGate("hard", 12.5, 25.0, latch_key="latch")
-    for model in (soft, latched, SimpleNamespace()):
+    for model in (latched, SimpleNamespace()):
         with pytest.raises(ValueError, match="needs an SPNN whose gate is eq. 15's hard switch"):
             SwitchMemory(model, hysteresis=5.0)
     for bad in (-1.0, float("nan"), float("inf")):
         with pytest.raises(ValueError, match="hysteresis=.* is not allowed"):
             SwitchMemory(GateOnly(), hysteresis=bad)
     assert SwitchMemory(GateOnly(), hysteresis=0.0, d_th=8.0).d_th == 8.0
+
+
+class SoftWeight(GateOnly):
+    """A stand-in SPNN with the soft gate (T = 2 m) that returns the avoidance column's weight."""
+
+    def __init__(self, corridor: float | None = None) -> None:
+        super().__init__()
+        gate = DistanceGate("soft", 12.5, 25.0, temperature=2.0, corridor=corridor)
+        self.policy.actor.gate = gate
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        tensors = {k: th.as_tensor(v) for k, v in obs.items()}
+        return self.policy.actor.gate(tensors)[:, 1].numpy(), None
+
+
+def _weights(policy, nearest_m, starts, off_path=0.0):
+    weights = []
+    for d, start in zip(nearest_m, starts):
+        obs = {
+            "sonar": np.full((1, 9), d / 25.0, np.float32),
+            "path": np.array([[0.0, off_path]], np.float32),
+        }
+        weights.append(float(policy.predict(obs, episode_start=np.array([start]))[0][0]))
+    return weights
+
+
+def _sigmoid(x: float) -> float:
+    return 1.0 / (1.0 + np.exp(-x))
+
+
+def test_soft_gate_holds_the_avoidance_weight_until_beyond_d_th_plus_h() -> None:
+    model = SoftWeight()
+    nearest = [20.0, 10.0, 14.0, 22.0, 23.0, 10.0, 14.0]
+    starts = [True, False, False, False, False, True, False]
+    held = _weights(SwitchMemory(model, hysteresis=10.0), nearest, starts)
+    at_10 = _sigmoid((12.5 - 10.0) / 2.0)
+    expected = [_sigmoid(-3.75), at_10, at_10, at_10, _sigmoid(-5.25), at_10, at_10]
+    np.testing.assert_allclose(held, expected, atol=1e-5)
+    np.testing.assert_allclose(  # without memory: the gate's own weight on every step
+        _weights(model, nearest, [True] * 7), [_sigmoid((12.5 - d) / 2.0) for d in nearest], 1e-6
+    )
+    assert model.policy.actor.gate.d_th == 12.5
+    # a new episode starts without memory, and the corridor bound still hands back
+    assert _weights(SwitchMemory(model, 10.0), [10.0, 14.0], [False, True])[1] < 0.33
+    bounded = SwitchMemory(SoftWeight(corridor=0.9), hysteresis=10.0)
+    assert _weights(bounded, [10.0, 14.0], [True, False], off_path=0.95) == [0.0, 0.0]

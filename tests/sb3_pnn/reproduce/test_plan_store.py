@@ -277,8 +277,9 @@ def test_spnn_switch_memory_reaches_spnns_hard_switch_only() -> None:
     """spnn_switch_memory=H: SPNN's straight runs (the hard switch) observe the latch (d_th,
     d_th + H) in training and evaluation and switch on it; the sine runs (the soft gate) and
     every other run keep their spec and hash."""
-    _, default = _spnn_gates()
-    _, memory = _spnn_gates((("spnn_switch_memory", 10.0),))
+    unplayed = ("spnn_play_memory", None)  # the default plays the switch with a memory
+    _, default = _spnn_gates((unplayed,))
+    _, memory = _spnn_gates((unplayed, ("spnn_switch_memory", 10.0)))
     for run_id, spec in default.items():
         other = memory[run_id]
         latched = run_id == "spnn-straight-s0"
@@ -291,7 +292,7 @@ def test_spnn_switch_memory_reaches_spnns_hard_switch_only() -> None:
     with pytest.raises(ValueError, match=r"spnn_switch_memory=-1.0 is not allowed: expected a"):
         OURS.with_(spnn_switch_memory=-1.0)
     with pytest.raises(ValueError, match=r"spnn_switch_memory=10.0 depends on the path"):
-        OURS.with_(spnn_switch_memory=10.0).agent_env_kwargs("spnn")
+        OURS.with_(spnn_play_memory=None, spnn_switch_memory=10.0).agent_env_kwargs("spnn")
 
 
 def test_pnn_avoidance_column_adds_the_avoidance_column_to_pnns_runs_on_its_paths() -> None:
@@ -594,7 +595,8 @@ def test_oa_budget_scales_the_avoidance_column_alone() -> None:
     """oa_budget: the avoidance column's runs train that multiple of the budget's episodes (and
     change spec); the path-following columns and every other run keep theirs and their hash;
     bad values refused."""
-    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    one = (("oa_budget", 1.0),)
+    plain = {s.run_id: s for s in build_plan(StudyConfig("tiny", seeds=1, setup_changes=one))}
     changes = tuple(parse_setup_changes(["oa_budget=2"]).items())
     longer = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
     for spec in longer:
