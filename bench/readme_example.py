@@ -60,8 +60,10 @@ def main() -> None:
         wall, cpu = (time.time() - started) / 60, (time.process_time() - cpu) / 60
         took = f"{wall:.1f} min wall, {cpu:.1f} CPU-min"
         from sb3_pnn import DiscreteSAC, evaluate_policy_on_task
+        from sb3_pnn.progressive import SwitchMemory
 
-        model = DiscreteSAC.load(Path(scratch) / "spnn.zip")
+        # played as the example plays it (a 10 m memory in its switch)
+        model = SwitchMemory(DiscreteSAC.load(Path(scratch) / "spnn.zip"), hysteresis=10.0)
         print(f"README example trained in {took}")
         for task in (
             "rov_envs/PlanningStraight-v0",

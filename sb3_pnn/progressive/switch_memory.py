@@ -101,6 +101,14 @@ class SwitchMemory:
         self.d_th = float(gate.d_th if d_th is None else d_th)
         self.near: np.ndarray | None = None
 
+    def __getattr__(self, name: str) -> Any:
+        """The model's other attributes (its spaces, ``trained_env``), so that an evaluation
+        reads the task keywords and checks the spaces of the model it plays."""
+        model = self.__dict__.get("model")
+        if model is None or name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(model, name)
+
     def reset(self) -> None:
         """Forget every vehicle's memory (as ``episode_start`` true for all)."""
         self.near = None

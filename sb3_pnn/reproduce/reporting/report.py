@@ -620,6 +620,10 @@ def _setup_lines(
         "training seeds, not the draw of these columns (`--prior-per-seed` trains a set per seed)"
     ) + _selection_text(results, config.setup)
     seeds = sorted({r.spec.seed for r in results.runs.values() if r.spec.kind == "transfer"})
+    column_episodes = {  # the set-up's (oa_budget scales the avoidance column's)
+        name: config.setup.column_episodes(name, episodes)
+        for name, episodes in budget.prior_episodes.items()
+    }
     return [
         "## Set-up",
         "",
@@ -627,7 +631,7 @@ def _setup_lines(
         f"priors: {prior_text}; learners: "
         + ", ".join(AGENT_LABELS[a] for a in config.agents)
         + ("" if len(config.agents) == len(AGENTS) else " (`--agents`: the others not trained)"),
-        f"- training episodes: priors {budget.prior_episodes}; agents on the planning tasks "
+        f"- training episodes: priors {column_episodes}; agents on the planning tasks "
         f"{budget.transfer_episodes} (paper: about 300 straight / 400 sine)",
         f"- evaluation: {budget.eval_episodes} episodes per policy and task, seeds 10000.., "
         "start pose "

@@ -66,6 +66,16 @@ def test_only_a_distance_gate_without_a_latch_and_a_distance_are_accepted() -> N
     assert SwitchMemory(GateOnly(), hysteresis=0.0, d_th=8.0).d_th == 8.0
 
 
+def test_the_models_spaces_and_training_keywords_show_through() -> None:
+    """An evaluation reads ``trained_env`` and the spaces of the policy it is given: the memory
+    passes on the model's (a missing one stays missing)."""
+    model = GateOnly()
+    model.trained_env = {"control_period": 1.0}
+    policy = SwitchMemory(model, hysteresis=10.0)
+    assert policy.trained_env is model.trained_env
+    assert not hasattr(policy, "observation_space")
+
+
 class SoftWeight(GateOnly):
     """A stand-in SPNN with the soft gate (T = 2 m) that returns the avoidance column's weight."""
 
