@@ -18,7 +18,7 @@ again. The gate's corridor bound, where set, still acts on the held weight.
 
 A model trained with the memory as an observation part is a different thing
 (``SelectivePolicy(gate_latch_key=...)`` with rov_envs' ``obstacle_latch``): its replayed samples
-switch as the acting policy did. Measured in docs/ablation sections 42 and 46.
+switch as the acting policy did. Measured in docs/ablation sections 42 and 46-48.
 
 Usage::
 
@@ -115,7 +115,6 @@ class SwitchMemory:
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):
         nearest = np.asarray(obs[self.gate.sonar_key]).min(axis=-1) * self.gate.sonar_range
-        release = self.d_th + self.hysteresis
         if self.gate.mode == "hard":
             near = remembered_switch(nearest, self.near, self.d_th, self.hysteresis, episode_start)
             # the gate selects per sample: a d_th above or below every reading decides it
@@ -123,6 +122,7 @@ class SwitchMemory:
         else:
             temperature = self.gate.temperature
             weight = 1.0 / (1.0 + np.exp(-(self.d_th - nearest) / temperature))
+            release = self.d_th + self.hysteresis
             near = held_weight(weight, nearest, self.near, release, episode_start)
             # the d_th at which the gate's own sigmoid gives the held weight
             held = np.clip(near, 1e-7, 1.0 - 1e-7)
