@@ -3,6 +3,7 @@
 * :mod:`.evaluate`: :func:`evaluate_policy_on_task`, seeded episodes in lock-step batches;
 * :mod:`.backends`: where the episodes run (rov_envs' batched engine, or any Gymnasium env);
 * :mod:`.result`: :class:`EvaluationResult` and the statistics behind Figures 12-20;
+* :mod:`.no_reversal`: :class:`NoReversal`, a policy played without immediate turn reversals;
 * :mod:`.__main__`: the command line, ``python -m sb3_pnn.evaluate`` (or ``python -m
   sb3_pnn.evaluation``, ``sb3-pnn-evaluate``).
 """
@@ -13,6 +14,7 @@ from sb3_pnn.evaluation.evaluate import (
     evaluate_policy_on_task,
     resolve_env_id,
 )
+from sb3_pnn.evaluation.no_reversal import NoReversal
 from sb3_pnn.evaluation.result import EpisodeRecord, EvaluationResult, Trajectory, wilson_interval
 
 __all__ = [
@@ -20,6 +22,7 @@ __all__ = [
     "DEFAULT_START_NOISE",
     "EpisodeRecord",
     "EvaluationResult",
+    "NoReversal",
     "Trajectory",
     "evaluate_policy_on_task",
     "resolve_env_id",

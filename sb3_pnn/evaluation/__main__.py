@@ -30,7 +30,12 @@ from typing import Any
 from rov_envs.sim.tasks import task_of_env
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.atomic import check_writable
-from sb3_pnn.evaluation import DEFAULT_START_NOISE, evaluate_policy_on_task, resolve_env_id
+from sb3_pnn.evaluation import (
+    DEFAULT_START_NOISE,
+    NoReversal,
+    evaluate_policy_on_task,
+    resolve_env_id,
+)
 from sb3_pnn.evaluation.evaluate import trained_env_kwargs
 
 PROG = "python -m sb3_pnn.evaluate"
@@ -82,6 +87,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="play an SPNN whose gate is eq. 15's hard switch with a memory: the avoidance "
         "column keeps control until the nearest reading is beyond d_th + H metres "
         "(sb3_pnn.progressive.SwitchMemory; the study's spnn_play_memory)",
+    )
+    p.add_argument(
+        "--no-reversal",
+        action="store_true",
+        help="play Go straight where the policy's turn reverses the step before's "
+        "(sb3_pnn.evaluation.NoReversal; the study's spnn_play_no_reversal)",
     )
     p.add_argument("--record", type=int, default=0, help="keep the first K trajectories")
     p.add_argument("--stochastic", action="store_true", help="sample actions (default: greedy)")
@@ -172,6 +183,12 @@ def run(argv: Sequence[str] | None = None) -> int:
                 policy = SwitchMemory(policy, hysteresis=args.switch_memory)
             except ValueError as exc:
                 raise _UsageError(f"--switch-memory {args.switch_memory}: {exc}") from exc
+        if args.no_reversal:
+            if isinstance(policy, str):
+                raise _UsageError(
+                    f"--no-reversal needs a trained model's zip; got the baseline {policy!r}"
+                )
+            policy = NoReversal(policy)
         try:
             result = evaluate_policy_on_task(
                 policy,

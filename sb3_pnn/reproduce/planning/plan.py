@@ -221,8 +221,9 @@ class RunSpec:
     # {"every": N, "episodes": K[, "drawn_episodes": D][, "rank_by": "route"]}: keep the best
     # policy on validation episodes (empty: the last)
     validation: dict[str, int | str] = field(default_factory=dict)
-    # {"switch_memory": H}: evaluate the trained SPNN through SwitchMemory (empty: as trained)
-    play: dict[str, float] = field(default_factory=dict)
+    # {"switch_memory": H, "no_reversal": True}: evaluate the trained SPNN through SwitchMemory
+    # and / or NoReversal (empty: as trained)
+    play: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         data = json.loads(json.dumps(asdict(self)))
@@ -397,8 +398,16 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
     return runs
 
 
-def play_of(setup: TrainingSetup, agent: str, path: str) -> dict[str, float]:
+def play_of(setup: TrainingSetup, agent: str, path: str) -> dict[str, Any]:
     """How the study evaluates learner ``agent``'s runs on ``path`` (RunSpec.play): SPNN's
-    through a switch memory where ``spnn_play_memory`` acts, else as trained (empty)."""
-    memory = setup.spnn_play_memory_of(path) if agent == "spnn" else None
-    return {} if memory is None else {"switch_memory": memory}
+    through a switch memory where ``spnn_play_memory`` acts and without immediate turn
+    reversals where ``spnn_play_no_reversal`` does, else as trained (empty)."""
+    if agent != "spnn":
+        return {}
+    play: dict[str, Any] = {}
+    memory = setup.spnn_play_memory_of(path)
+    if memory is not None:
+        play["switch_memory"] = memory
+    if setup.on_path("spnn_play_no_reversal", path):
+        play["no_reversal"] = True
+    return play

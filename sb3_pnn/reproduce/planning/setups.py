@@ -128,6 +128,14 @@ Factors:
   :class:`sb3_pnn.progressive.SwitchMemory` (the avoidance column keeps control until the
   nearest reading is beyond d_th + H). None (the paper): evaluated as trained. Ours: 10 m
   (docs/ablation section 47). Only SPNN runs on a path whose gate is the hard switch read it.
+* ``spnn_play_no_reversal``: on which planning paths (values as ``pnn_critic_priors``) the
+  study evaluates SPNN's runs through :class:`sb3_pnn.evaluation.NoReversal`: where the
+  policy's action turns to the side opposite to the step before's, "Go straight" is played for
+  that step (training and the kept policy unchanged). Among a row of obstacles the soft gate's
+  policy can alternate Turn left 1 and Turn right 1 with confident probabilities, creeping at
+  half thrust until the time limit. "neither" (the paper): evaluated as trained. Ours: the
+  sinusoid (docs/ablation section 50: +10.8 and +10.4 points of drawn fields on seeds 0-4 and
+  fresh seeds 5-9; on the straight path, whose switch plays with ``spnn_play_memory``, -3.6).
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -376,6 +384,7 @@ class TrainingSetup:
     spnn_gate_corridor: float | None = None
     spnn_switch_memory: float | None = None
     spnn_play_memory: float | None = None
+    spnn_play_no_reversal: str = "neither"
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -1053,6 +1062,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_init_from_prior",
     "spnn_init_from_prior",
     "pnn_avoidance_column",
+    "spnn_play_no_reversal",
 )
 
 #: Factors that give the sine path its own value of another factor (None: that factor's).
@@ -1111,6 +1121,7 @@ OURS = TrainingSetup(
     spnn_gate_sine="soft",
     spnn_gate_corridor=0.9,
     spnn_play_memory=10.0,
+    spnn_play_no_reversal="sine",
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
     pnn_n_steps=8,
@@ -1170,6 +1181,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_gate_corridor": "SPNN gate's corridor bound c (the path column beyond abs(g) = c d_L)",
     "spnn_switch_memory": "SPNN switch's memory H (m): avoidance kept until beyond d_th + H",
     "spnn_play_memory": "SPNN evaluated with a switch memory H (m) (training unchanged)",
+    "spnn_play_no_reversal": "SPNN evaluated without immediate turn reversals (training unchanged)",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",

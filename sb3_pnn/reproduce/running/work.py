@@ -18,7 +18,8 @@ It writes into the run's temporary folder:
   :class:`sb3_pnn.evaluation.EvaluationResult` dict per evaluation task (label -> dict), from
   ``eval_episodes`` episodes with seeds ``EVAL_SEED + i`` (the same episodes for every policy)
   and the evaluation library's default start-pose noise; a trained policy is played as
-  ``spec.play`` names (:func:`played`: SPNN through a switch memory, or as trained).
+  ``spec.play`` names (:func:`played`: SPNN through a switch memory and / or without
+  immediate turn reversals, or as trained).
 """
 
 from __future__ import annotations
@@ -256,9 +257,15 @@ def run_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[str, Any]:
 
 def played(play: dict[str, Any], model: Any) -> Any:
     """The trained ``model`` as the study evaluates it (a run spec's ``play``): through
-    :class:`sb3_pnn.progressive.SwitchMemory` where a switch memory is named, else itself."""
-    if "switch_memory" not in play:
-        return model
-    from sb3_pnn.progressive.switch_memory import SwitchMemory
+    :class:`sb3_pnn.progressive.SwitchMemory` where a switch memory is named, then through
+    :class:`sb3_pnn.evaluation.NoReversal` where ``no_reversal`` is; else itself."""
+    policy = model
+    if "switch_memory" in play:
+        from sb3_pnn.progressive.switch_memory import SwitchMemory
 
-    return SwitchMemory(model, hysteresis=play["switch_memory"])
+        policy = SwitchMemory(policy, hysteresis=play["switch_memory"])
+    if play.get("no_reversal"):
+        from sb3_pnn.evaluation.no_reversal import NoReversal
+
+        policy = NoReversal(policy)
+    return policy

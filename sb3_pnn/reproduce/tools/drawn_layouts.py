@@ -10,11 +10,16 @@ drawn afresh every episode by the ``scatter`` generator (``layout="scatter"``: 1
 dense / sine_dense generators' parameters), on the validation seeds (20000+), with the run's env
 keywords otherwise, and prints each run's success rate and how its episodes ended. A policy is
 played as the study evaluated it (an SPNN run whose spec names a switch memory,
-``spnn_play_memory``, through :class:`sb3_pnn.progressive.SwitchMemory`).
+``spnn_play_memory``, through :class:`sb3_pnn.progressive.SwitchMemory`; one whose spec names
+``no_reversal``, ``spnn_play_no_reversal``, through :class:`sb3_pnn.evaluation.NoReversal`);
+``--no-reversal on|off`` replays every run with or without NoReversal instead (docs/ablation
+section 50 was measured this way).
 
 ``--gate-corridor C`` (SPNN runs, a diagnosis at inference) replays the policies with their gate
 bounded at abs(g) / d_L >= C (``none``: eq. 15's unbounded gate), whatever they trained with; the
 bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
+``--corridor-release R`` (with a bound, the run's or ``--gate-corridor``'s) keeps the bound's
+cut until abs(g) / d_L < R (:mod:`sb3_pnn.reproduce.tools.corridor_release`; section 49).
 
 ``--against BASE`` replays the same agent, path and seeds of a second study and prints the
 difference of the two mean success rates with a 95 % Welch interval over runs: each training
@@ -24,6 +29,7 @@ section 30).
 
 Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path straight
     [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9] [--against BASE_STUDY]
+    [--no-reversal on|off]
 """
 
 from __future__ import annotations
@@ -39,7 +45,10 @@ from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
 from sb3_pnn.progressive.gates import checked_corridor
 from sb3_pnn.reproduce.reporting.stats import difference_ci
+from sb3_pnn.reproduce.tools.corridor_release import CorridorRelease
 from sb3_pnn.reproduce.tools.replay import (
+    add_no_reversal_option,
+    no_reversal_of,
     run_env_kwargs,
     run_folders,
     run_model,
@@ -73,6 +82,15 @@ def bound_gate(parser: argparse.ArgumentParser, model, corridor: float | str, ru
     gate.corridor = None if corridor == "none" else float(corridor)
 
 
+def released(parser: argparse.ArgumentParser, policy, model, release: float, run):
+    """``policy`` played with the corridor bound released only below ``release`` d_L."""
+    gate = getattr(getattr(getattr(model, "policy", None), "actor", None), "gate", None)
+    try:
+        return CorridorRelease(policy, gate, release)
+    except ValueError as exc:
+        parser.error(f"--corridor-release {release} ({run}): {exc}")
+
+
 def drawn_success(
     parser: argparse.ArgumentParser, args: argparse.Namespace, study: Path, env_id: str
 ) -> list[tuple[int, float, str]]:
@@ -84,7 +102,10 @@ def drawn_success(
         model = run_model(parser, run)
         if args.gate_corridor is not None:
             bound_gate(parser, model, args.gate_corridor, run)
-        policy = args.agent if model is None else run_played(parser, run, model)
+        no_reversal = no_reversal_of(args)
+        policy = args.agent if model is None else run_played(parser, run, model, no_reversal)
+        if args.corridor_release is not None:
+            policy = released(parser, policy, model, args.corridor_release, run)
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
         )
@@ -127,6 +148,14 @@ def main(argv: list[str] | None = None) -> int:
         help="a second study: its runs of the same agent, path and seeds replayed alike, and "
         "the difference of the means printed with a 95 %% interval",
     )
+    parser.add_argument(
+        "--corridor-release",
+        type=float,
+        metavar="R",
+        help="SPNN runs with a corridor bound: once abs(g) / d_L reaches the bound, keep the "
+        "avoidance column cut until abs(g) / d_L < R (a diagnosis; default: no release)",
+    )
+    add_no_reversal_option(parser)
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)

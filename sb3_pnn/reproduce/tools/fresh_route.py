@@ -7,11 +7,13 @@ evaluation seeds (10000+): a route measure that nothing was chosen on. It prints
 success, mean abs(g), mean abs(a_c) and mean time to the target of both tasks, and their means
 over the runs. ``--against BASE`` prints a second study's runs of the same seeds beside them and
 the relative change of the mean abs(g) (the route rules of docs/ablation sections 22-32).
+``--no-reversal on|off`` replays every run with or without :class:`sb3_pnn.evaluation.NoReversal`
+(default: as the study played it).
 ``--agent pf_column`` measures the path's path-following source column instead, on its own
 task (the column's ``"own"`` evaluation task: the path without obstacles) on the same seeds.
 
 Usage: python -m sb3_pnn.reproduce.tools.fresh_route STUDY --agent spnn --path straight
-    [--seeds 0 1 2] [--episodes 50] [--against BASE_STUDY]
+    [--seeds 0 1 2] [--episodes 50] [--against BASE_STUDY] [--no-reversal on|off]
 """
 
 from __future__ import annotations
@@ -27,7 +29,14 @@ import torch as th
 from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model, run_played
+from sb3_pnn.reproduce.tools.replay import (
+    add_no_reversal_option,
+    no_reversal_of,
+    run_eval_task,
+    run_folders,
+    run_model,
+    run_played,
+)
 
 #: First seed of the fresh validation episodes.
 FRESH_SEED = 40_000
@@ -55,15 +64,20 @@ def folders(study: Path, agent: str, path: str, seeds: list[int] | None) -> list
 
 
 def route(
-    parser: argparse.ArgumentParser, run: Path, episodes: int, tasks: tuple[str, ...] = TASKS
+    parser: argparse.ArgumentParser,
+    run: Path,
+    episodes: int,
+    tasks: tuple[str, ...] = TASKS,
+    no_reversal: bool | None = None,
 ) -> dict[str, dict]:
     """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
     target (s; None without a success) of the run's kept policy on seeds 40000+, played as the
-    study evaluated it (a switch memory where its spec names one)."""
+    study evaluated it (a switch memory where its spec names one; ``no_reversal`` as
+    :func:`sb3_pnn.reproduce.tools.replay.run_played`)."""
     evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
     model = run_model(parser, run)
     agent = json.loads((run / "manifest.json").read_text())["agent"]
-    policy = agent if model is None else run_played(parser, run, model)
+    policy = agent if model is None else run_played(parser, run, model, no_reversal)
     out = {}
     for task, (env_id, env_kwargs) in evaluated.items():
         result = evaluate_policy_on_task(
@@ -110,6 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, nargs="*", default=None)
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
     parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
+    add_no_reversal_option(parser)
     args = parser.parse_args(argv)
     th.set_num_threads(1)
     runs = folders(args.study, args.agent, args.path, args.seeds)
@@ -130,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         row = [str(seed)]
         for i, study in enumerate(studies):
             run = folders(study, args.agent, args.path, [seed])[0][1]
-            measured[i].append(route(parser, run, args.episodes, tasks))
+            measured[i].append(route(parser, run, args.episodes, tasks, no_reversal_of(args)))
             row += cells(measured[i][-1])
         print("| " + " | ".join(row) + " |")
     summary = [means(m) for m in measured]

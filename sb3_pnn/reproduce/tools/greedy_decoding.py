@@ -1,15 +1,19 @@
 """Does deploying a study's kept policies by the median of pi(.|s) on Table 1's ordered turns,
-instead of its mode, stop them weaving? A validation measurement; nothing here trains.
+or without immediate turn reversals, instead of its mode, stop them weaving? A validation
+measurement; nothing here trains.
 
 Table 1's five actions are ordered by the turn they command: Turn left 2, Turn left 1, Go
 straight, Turn right 1, Turn right 2. A deterministic policy plays the argmax of pi(.|s) (the
 mode); where the two opposite turns lead with nearly equal probability the mode flips between
 them from step to step (docs/ablation section 14). The median on that order plays "Go straight"
-whenever neither side holds half the probability. This replays each run's kept policy both
-ways on the validation seeds (20000+), 50 episodes each, on its planning task, on the same path
-without obstacles, and among obstacles drawn afresh (the ``scatter`` generator of
+whenever neither side holds half the probability. :class:`sb3_pnn.evaluation.NoReversal` plays
+the mode except where it turns to the side opposite to the step before's, and then goes
+straight (docs/ablation section 50). This replays each run's kept policy the three ways on the
+validation seeds (20000+), 50 episodes each, on its planning task, on the same path without
+obstacles, and among obstacles drawn afresh (the ``scatter`` generator of
 ``tools.drawn_layouts``), and prints success, return, mean abs(g) and mean abs(a_c) per run and
-decoder, and their means.
+decoder, and their means. The mode is played as the study plays the run (a switch memory where
+its spec names one), without NoReversal; the median reads the model's own logits.
 
 Usage: python -m sb3_pnn.reproduce.tools.greedy_decoding STUDY --agent spnn --path straight
     [--seeds 0 1 2 3 4 (default: every run of that agent and path)] [--episodes 50]
@@ -24,12 +28,14 @@ import torch as th
 
 from rov_envs.physics.thrusters import ACTION_NAMES
 from sb3_pnn.common.callbacks import VALIDATION_SEED
+from sb3_pnn.evaluation import NoReversal
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
 from sb3_pnn.reproduce.tools.drawn_layouts import LAYOUT
 from sb3_pnn.reproduce.tools.replay import (
     run_env_kwargs,
     run_folders,
     run_model,
+    run_played,
     task_id,
     task_parser,
 )
@@ -73,10 +79,19 @@ class MedianDecoded:
 TASKS = (("planning task", {}), ("no obstacles", {"obstacles": []}), ("drawn", {"layout": LAYOUT}))
 
 
-def measure(model: Any, env_id: str, env_kwargs: dict, episodes: int) -> dict[str, dict]:
-    """{decoder: {task label: (success, return, abs(g), abs(a_c) in degrees)}}."""
+#: The decoders compared, in the table's order.
+DECODERS = ("mode", "median", "no reversal")
+
+
+def measure(
+    model: Any, env_id: str, env_kwargs: dict, episodes: int, played: Any = None
+) -> dict[str, dict]:
+    """{decoder: {task label: (success, return, abs(g), abs(a_c) in degrees)}}; ``played``:
+    the model as the study plays it without NoReversal (default: the model itself)."""
+    mode = model if played is None else played
+    policies = (mode, MedianDecoded(model), NoReversal(mode))
     out: dict[str, dict] = {}
-    for decoder, policy in (("mode", model), ("median", MedianDecoded(model))):
+    for decoder, policy in zip(DECODERS, policies, strict=True):
         out[decoder] = {}
         for label, extra in TASKS:
             r = evaluate_policy_on_task(
@@ -103,9 +118,9 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{args.agent} on {env_id}, {args.episodes} validation episodes per task")
     print(
         "| seed | decoder | planning task: success, return, abs(g), abs(a_c) | no obstacles: "
-        "abs(g), abs(a_c) | drawn obstacles: success |\n|---|---|---|---|---|"
+        "success, abs(g), abs(a_c) | drawn obstacles: success |\n|---|---|---|---|---|"
     )
-    rows: dict[str, list] = {"mode": [], "median": []}
+    rows: dict[str, list] = {decoder: [] for decoder in DECODERS}
     runs = run_folders(args.study, args.agent, args.path, args.seeds)
     if not runs:
         parser.error(f"{args.study / 'runs'} holds no run of {args.agent} on the {args.path} path")
@@ -113,19 +128,22 @@ def main(argv: list[str] | None = None) -> int:
         model = run_model(parser, run)
         if model is None:
             parser.error(f"{run} is a PID baseline's run: expected a trained agent's")
-        result = measure(model, env_id, run_env_kwargs(parser, run), args.episodes)
+        played = run_played(parser, run, model, no_reversal=False)
+        result = measure(model, env_id, run_env_kwargs(parser, run), args.episodes, played)
         for decoder, tasks in result.items():
             plan, free, drawn = (tasks[label] for label, _ in TASKS)
-            rows[decoder].append([*plan, *free[2:], drawn[0]])
+            rows[decoder].append([*plan, *free[2:], drawn[0], free[0]])
             print(
                 f"| {seed} | {decoder} | {100 * plan[0]:.0f} %, {plan[1]:.0f}, {plan[2]:.2f} m, "
-                f"{plan[3]:.1f} deg | {free[2]:.2f} m, {free[3]:.1f} deg | {100 * drawn[0]:.0f} % |"
+                f"{plan[3]:.1f} deg | {100 * free[0]:.0f} %, {free[2]:.2f} m, {free[3]:.1f} deg | "
+                f"{100 * drawn[0]:.0f} % |"
             )
     for decoder, values in rows.items():
         m = np.mean(values, axis=0)
         print(
             f"mean, {decoder}: planning task {100 * m[0]:.1f} %, return {m[1]:.1f}, "
-            f"{m[2]:.2f} m, {m[3]:.1f} deg; no obstacles {m[4]:.2f} m, {m[5]:.1f} deg; "
+            f"{m[2]:.2f} m, {m[3]:.1f} deg; no obstacles {100 * m[7]:.1f} %, {m[4]:.2f} m, "
+            f"{m[5]:.1f} deg; "
             f"drawn {100 * m[6]:.1f} %"
         )
     return 0

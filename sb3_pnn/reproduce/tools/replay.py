@@ -86,13 +86,39 @@ def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
     return DiscreteSAC.load(run / "model.zip", device="cpu")
 
 
-def run_played(parser: argparse.ArgumentParser, run: Path, model: Any) -> Any:
+def run_played(
+    parser: argparse.ArgumentParser, run: Path, model: Any, no_reversal: bool | None = None
+) -> Any:
     """The run's kept ``model`` played as the study evaluated it (its spec's ``play``: SPNN
-    through a switch memory where one is named, :func:`sb3_pnn.reproduce.running.work.played`)."""
+    through a switch memory and / or without immediate turn reversals where named,
+    :func:`sb3_pnn.reproduce.running.work.played`); ``no_reversal`` True / False replays it
+    with / without :class:`sb3_pnn.evaluation.NoReversal` whatever the spec named. A run folder
+    without a manifest plays as trained."""
     from sb3_pnn.reproduce.running.work import played
 
-    spec = json.loads((run / "manifest.json").read_text()).get("spec") or {}
-    return played(spec.get("play") or {}, model)
+    manifest = run / "manifest.json"
+    spec = json.loads(manifest.read_text()).get("spec") or {} if manifest.is_file() else {}
+    play = dict(spec.get("play") or {})
+    if no_reversal is not None:
+        play["no_reversal"] = no_reversal
+    return played(play, model)
+
+
+def add_no_reversal_option(parser: argparse.ArgumentParser) -> None:
+    """``--no-reversal on|off``: replay every run with or without NoReversal (default: as the
+    study played it), on both sides of a comparison."""
+    parser.add_argument(
+        "--no-reversal",
+        choices=["on", "off"],
+        default=None,
+        help="replay the runs with (on) or without (off) sb3_pnn.evaluation.NoReversal "
+        "(default: as the study played each run; the study's spnn_play_no_reversal)",
+    )
+
+
+def no_reversal_of(args: argparse.Namespace) -> bool | None:
+    """``--no-reversal``'s value as :func:`run_played` takes it."""
+    return None if args.no_reversal is None else args.no_reversal == "on"
 
 
 def run_baseline(run: Path, env: gym.Env) -> Any:

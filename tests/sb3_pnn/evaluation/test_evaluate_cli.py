@@ -127,3 +127,20 @@ def test_switch_memory_needs_an_spnn_with_a_hard_switch(tmp_path, capsys):
     assert run([*argv, "--switch-memory", "10"]) == 2
     err = capsys.readouterr().err
     assert "--switch-memory 10.0: SwitchMemory needs an SPNN whose gate is eq. 15's hard" in err
+
+
+def test_no_reversal_plays_a_model_and_refuses_a_baseline(tmp_path, capsys):
+    """--no-reversal plays a model through NoReversal; a PID baseline (no model) is refused."""
+    from sb3_pnn import DiscreteSAC
+
+    env = gym.make("rov_envs/PathFollowingStraight-v0")
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}).save(tmp_path / "m")
+    out = tmp_path / "r.json"
+    argv = ["--model", str(tmp_path / "m.zip"), "--env", "PathFollowingStraight-v0",
+            "--episodes", "2", "--no-reversal", "--out", str(out)]  # fmt: skip
+    assert run(argv) == 0
+    assert json.loads(out.read_text())["n_episodes"] == 2
+    assert run(["--model", "pid", "--env", "PathFollowingStraight-v0", "--no-reversal"]) == 2
+    assert "--no-reversal needs a trained model's zip; got the baseline 'pid'" in (
+        capsys.readouterr().err
+    )

@@ -92,6 +92,7 @@ def test_the_tool_replays_a_run_both_ways_on_validation_seeds(tmp_path, capsys):
     )
     assert f"| 0 | mode | {100 * plan.success_rate:.0f} %, {plan.mean_return:.0f}, " in out
     assert "| 0 | median | " in out and "mean, median: planning task" in out
+    assert "| 0 | no reversal | " in out and "mean, no reversal: planning task" in out
 
 
 def test_a_pid_run_is_refused(tmp_path, capsys):

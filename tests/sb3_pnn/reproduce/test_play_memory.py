@@ -18,7 +18,9 @@ from sb3_pnn.reproduce.tools.replay import run_played
 
 
 def _plan(changes: tuple = ()) -> dict[str, RunSpec]:
-    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)
+    """The tiny plan with ``changes``, its runs played without NoReversal (tested apart)."""
+    unreversed = (("spnn_play_no_reversal", "neither"), *changes)
+    config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=unreversed)
     return {s.run_id: s for s in build_plan(config)}
 
 
