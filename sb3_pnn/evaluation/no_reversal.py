@@ -3,13 +3,13 @@
 Table 1's five actions turn left (two strengths), go straight or turn right. A policy near a
 row of obstacles can settle into a two-step cycle: Turn left 1, Turn right 1, Turn left 1, ...,
 each with a confident probability, every turn undoing the last. Each turn drives one side's
-thrusters only, so the vehicle creeps at about half the thrust of "Go straight" and runs out
-of time (docs/ablation section 50). :class:`NoReversal` plays the policy's own action except
-where that action turns to the side opposite to the action played on the step before: it then
-plays "Go straight" for that step. A reversal therefore takes two steps instead of one, and a
-policy that keeps turning one way is untouched. Training is unchanged; each vehicle of a batch
-has its own previous action, forgotten where ``episode_start`` is true (as SB3's ``predict``
-passes it), so an episode starts without one.
+thrusters only, so the vehicle creeps (on a straight line about a quarter of the speed of "Go
+straight") and runs out of time (docs/ablation section 50). :class:`NoReversal` plays the
+policy's own action except where that action turns to the side opposite to the action played on
+the step before: it then plays "Go straight" for that step. A reversal therefore takes two
+steps instead of one, and a policy that keeps turning one way is untouched. Training is
+unchanged; each vehicle of a batch has its own previous action, forgotten where
+``episode_start`` is true (as SB3's ``predict`` passes it), so an episode starts without one.
 
 Usage::
 

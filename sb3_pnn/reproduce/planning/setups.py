@@ -128,14 +128,14 @@ Factors:
   :class:`sb3_pnn.progressive.SwitchMemory` (the avoidance column keeps control until the
   nearest reading is beyond d_th + H). None (the paper): evaluated as trained. Ours: 10 m
   (docs/ablation section 47). Only SPNN runs on a path whose gate is the hard switch read it.
-* ``spnn_play_no_reversal``: on which planning paths (values as ``pnn_critic_priors``) the
-  study evaluates SPNN's runs through :class:`sb3_pnn.evaluation.NoReversal`: where the
-  policy's action turns to the side opposite to the step before's, "Go straight" is played for
-  that step (training and the kept policy unchanged). Among a row of obstacles the soft gate's
-  policy can alternate Turn left 1 and Turn right 1 with confident probabilities, creeping at
-  half thrust until the time limit. "neither" (the paper): evaluated as trained. Ours: the
-  sinusoid (docs/ablation section 50: +10.8 and +10.4 points of drawn fields on seeds 0-4 and
-  fresh seeds 5-9; on the straight path, whose switch plays with ``spnn_play_memory``, -3.6).
+* ``spnn_play_no_reversal``: on which planning paths (values as ``pnn_critic_priors``) the study
+  evaluates SPNN's runs through :class:`sb3_pnn.evaluation.NoReversal`: where the policy's
+  action turns to the side opposite to the step before's, "Go straight" is played for that step
+  (training and the kept policy unchanged). Among a row of obstacles the soft gate's policy can
+  alternate Turn left 1 and Turn right 1 with confident probabilities, creeping until the time
+  limit. "neither" (the paper): evaluated as trained. Ours: the sinusoid (docs/ablation section
+  50: +10.8 and +10.4 points of drawn fields on seeds 0-4 and fresh seeds 5-9; on the straight
+  path, whose switch plays with ``spnn_play_memory``, -3.6).
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
