@@ -528,8 +528,14 @@ def _adopted_text(results: Any, study_folder: Path) -> str:
     origins = sorted(
         {os.path.relpath(Path(r.manifest["adopted"]["from"]).parent.parent, here) for r in adopted}
     )
+    again = sum("evaluated_again" in r.manifest["adopted"] for r in adopted)
+    how = (
+        f"adopted unchanged ({again} of them evaluated again as newly played)"
+        if again
+        else "adopted unchanged"
+    )
     return (
-        f"; {len(adopted)} of them adopted unchanged from {', '.join(origins)} "
+        f"; {len(adopted)} of them {how} from {', '.join(origins)} "
         "(`python -m sb3_pnn.reproduce.running.adopt`; their invocations are counted below)"
     )
 

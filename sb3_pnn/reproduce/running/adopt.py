@@ -17,6 +17,14 @@ and the stated revision is today's. Its manifest keeps the legacy hash and the s
 under ``adopted``, so report readers can see which runs were adopted. Nothing is retrained or
 changed otherwise; runs that do not match are listed with the reason and left to the study.
 
+A run whose stored spec differs from the planned one only in how the study evaluates its
+trained policy (:data:`EVALUATION_ONLY_FIELDS`: ``play``, e.g. a changed
+``spnn_play_no_reversal``) is adopted too, its stored hash checked against its own stored spec:
+its files are copied and its kept model is evaluated again as the new spec plays it (a new
+``eval.json``; ``adopted.evaluated_again`` names the play before and after). Training is
+deterministic only on one machine, so this keeps the very policy the old study evaluated, where
+training it again would draw another run on another machine.
+
 Usage (the study's own arguments after ``--``, as for ``python -m sb3_pnn.reproduce``)::
 
     python -m sb3_pnn.reproduce.running.adopt --from OLD --made-with-tasks-revision 2 -- \
@@ -42,20 +50,38 @@ def legacy_hash(spec: RunSpec) -> str:
     return json_hash(spec.to_dict())
 
 
+#: Spec fields that say only how the study evaluates a trained policy: a run whose stored spec
+#: differs from the planned one in these alone is adopted and evaluated again.
+EVALUATION_ONLY_FIELDS: tuple[str, ...] = ("play",)
+
+
+def _changed_fields(old: dict[str, Any], spec: RunSpec) -> list[str]:
+    stored, planned = old.get("spec") or {}, spec.to_dict()
+    return sorted(k for k in stored.keys() | planned.keys() if stored.get(k) != planned.get(k))
+
+
 def _why_not(old: dict[str, Any] | None, spec: RunSpec) -> str | None:
     if old is None:
         return "not in the old folder"
     if old.get("status", "done") != "done":
         return f"status {old.get('status')!r}"
-    stored, planned = old.get("spec") or {}, spec.to_dict()
-    if stored != planned:
-        changed = sorted(
-            k for k in stored.keys() | planned.keys() if stored.get(k) != planned.get(k)
-        )
+    changed = _changed_fields(old, spec)
+    if not set(changed) <= set(EVALUATION_ONLY_FIELDS):
         return f"spec differs in {', '.join(changed)}"
-    if old.get("config_hash") not in (legacy_hash(spec), spec.config_hash()):
+    made = RunSpec.from_dict(old["spec"]) if changed else spec
+    if old.get("config_hash") not in (legacy_hash(made), made.config_hash()):
         return f"stored hash {old.get('config_hash')} is neither the legacy nor today's hash"
     return None
+
+
+def evaluate_again(spec: RunSpec, folder: Path) -> dict[str, Any]:
+    """Evaluate the kept model in ``folder`` as ``spec`` plays it; writes ``eval.json`` there
+    and returns the manifest fields of the evaluation (:func:`work.evaluate`)."""
+    from sb3_pnn import DiscreteSAC
+    from sb3_pnn.reproduce.running.work import evaluate, played
+
+    model = DiscreteSAC.load(folder / "model.zip", device="cpu")
+    return evaluate(spec, played(spec.play, model), folder)
 
 
 def _why_not_deps(spec: RunSpec, verdicts: dict[str, str | None]) -> str | None:
@@ -109,12 +135,24 @@ def adopt_runs(
             if item.name != MANIFEST:
                 copy = shutil.copytree if item.is_dir() else shutil.copy2
                 copy(item, tmp / item.name)
-        note = {
+        note: dict[str, Any] = {
             "from": str(old_out.resolve() / "runs" / spec.run_id),
             "stored_hash": old["config_hash"],
             "stated_tasks_revision": revision,
         }
-        if store.commit(spec, tmp, {**old, "adopted": note}):
+        manifest = dict(old)
+        if _changed_fields(old, spec):  # evaluation-only fields: evaluate the kept model again
+            try:
+                manifest.update(evaluate_again(spec, tmp))
+            except Exception as error:  # noqa: BLE001 - reported per run, the others go on
+                shutil.rmtree(tmp, ignore_errors=True)
+                skipped[spec.run_id] = f"its evaluation as newly played failed: {error}"
+                continue
+            note["evaluated_again"] = {
+                "play_before": (old.get("spec") or {}).get("play", {}),
+                "play": spec.play,
+            }
+        if store.commit(spec, tmp, {**manifest, "adopted": note}):
             adopted.append(spec.run_id)
         else:
             skipped[spec.run_id] = "appeared in the new folder meanwhile"
@@ -154,6 +192,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValueError as error:
         parser.error(str(error))
     store = open_store_or_exit(study_parser, out)
+    import torch
+
+    torch.set_num_threads(1)  # a run evaluated again: one thread, as the study's workers
     try:
         adopted, skipped = adopt_runs(old, store, build_plan(config), args.made_with_tasks_revision)
     finally:

@@ -156,3 +156,84 @@ def test_adopting_from_two_folders_counts_each_invocation_once(tmp_path) -> None
     report = (new / "report.md").read_text()
     assert "missing: 0" in report and "over 3 invocation(s)" in report  # on, off, this one
     assert "adopted unchanged from ../off, ../on" in report
+
+
+def test_a_run_whose_play_changed_is_adopted_and_evaluated_again(tmp_path, monkeypatch) -> None:
+    """spnn_play_no_reversal changed: SPNN's sine run differs in ``play`` alone, so it is
+    adopted with its files and evaluated again as the new spec plays it; every other run is
+    adopted unchanged, and a run whose training spec differs is still refused."""
+    from rov_envs.sim.tasks import TASKS_REVISION
+    from sb3_pnn.reproduce.running import adopt
+
+    before = (("spnn_play_no_reversal", "neither"),)
+    old_plan = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=before))
+    _old_study(tmp_path / "old", old_plan, lambda spec: spec.config_hash())
+    evaluated = []
+
+    def fake_evaluation(spec, folder):
+        evaluated.append((spec.run_id, spec.play, (folder / "model.zip").read_text()))
+        (folder / "eval.json").write_text("{}")
+        return {"eval_s": 0.5, "success_rates": {"original": 1.0}}
+
+    monkeypatch.setattr(adopt, "evaluate_again", fake_evaluation)
+    new = RunStore(tmp_path / "new")
+    new.open()
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    adopted, skipped = adopt_runs(tmp_path / "old", new, plan, TASKS_REVISION)
+    assert sorted(adopted) == sorted(s.run_id for s in plan) and not skipped
+    assert evaluated == [("spnn-sine-s0", {"no_reversal": True}, "spnn-sine-s0")]
+    replayed = new.manifest("spnn-sine-s0")
+    assert replayed["adopted"]["evaluated_again"] == {
+        "play_before": {},
+        "play": {"no_reversal": True},
+    }
+    assert replayed["success_rates"] == {"original": 1.0} and replayed["wall_s"] == 1.0
+    assert new.is_done(next(s for s in plan if s.run_id == "spnn-sine-s0"))
+    assert "evaluated_again" not in new.manifest("spnn-straight-s0")["adopted"]
+    new.close()
+    other = RunStore(tmp_path / "other")
+    other.open()
+    longer = build_plan(StudyConfig(budget_name="quick", seeds=1))
+    adopted, skipped = adopt_runs(tmp_path / "old", other, longer, TASKS_REVISION)
+    assert adopted == [] and "spec differs in" in skipped["spnn-sine-s0"]
+    other.close()
+
+
+def test_evaluating_again_writes_the_new_plays_results(tmp_path) -> None:
+    """The kept model in the run's folder, played as the new spec names (NoReversal here),
+    on the spec's evaluation tasks: eval.json holds each task's episodes."""
+    import gymnasium as gym
+
+    from sb3_pnn import DiscreteSAC
+    from sb3_pnn.reproduce.planning.plan import PLANNING_ENVS
+    from sb3_pnn.reproduce.running.adopt import evaluate_again
+
+    spec = next(s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1)) if s.agent == "pnn")
+    spec = RunSpec.from_dict({**spec.to_dict(), "play": {"no_reversal": True}})
+    env = gym.make(PLANNING_ENVS[spec.path], **spec.env_kwargs)
+    DiscreteSAC("MultiInputPolicy", env, policy_kwargs={"net_arch": [8]}, seed=0).save(
+        tmp_path / "model.zip"
+    )
+    info = evaluate_again(spec, tmp_path)
+    results = json.loads((tmp_path / "eval.json").read_text())
+    assert set(results) == {label for label, _, _ in spec.eval_tasks}
+    assert all(r["n_episodes"] == spec.eval_episodes for r in results.values())
+    assert set(info["success_rates"]) == set(results)
+
+
+def test_the_report_counts_the_runs_evaluated_again(tmp_path) -> None:
+    from types import SimpleNamespace
+
+    from sb3_pnn.reproduce.reporting.report import _adopted_text
+
+    origin = str(tmp_path / "old" / "runs" / "x")
+    runs = {
+        "a": SimpleNamespace(manifest={"adopted": {"from": origin}}),
+        "b": SimpleNamespace(manifest={"adopted": {"from": origin, "evaluated_again": {}}}),
+        "c": SimpleNamespace(manifest={}),
+    }
+    text = _adopted_text(SimpleNamespace(runs=runs), tmp_path / "new")
+    assert (
+        "2 of them adopted unchanged (1 of them evaluated again as newly played) from ../old"
+        in (text)
+    )
