@@ -136,6 +136,9 @@ Factors:
   limit. "neither" (the paper): evaluated as trained. Ours: the sinusoid (docs/ablation section
   50: +10.8 and +10.4 points of drawn fields on seeds 0-4 and fresh seeds 5-9; on the straight
   path, whose switch plays with ``spnn_play_memory``, -3.6).
+* ``learners_play_no_reversal``: the same for every learner's runs on the named paths (PNN,
+  SAC-Single, SAC-Multi and SPNN), so that Figure 20's learners can be compared played alike.
+  "neither" in both set-ups: only SPNN's validation rule passed (docs/ablation section 50).
 * ``spnn_sigma``, ``spnn_own_weight``: the weights sigma (of the selected prior's lateral
   input) and tau (of the new column's own input) of eq. 15, "both set to be 0.5" in the paper.
   With both at 1 the SPNN is eq. 13's PNN whose laterals come from the gate-selected prior
@@ -385,6 +388,7 @@ class TrainingSetup:
     spnn_switch_memory: float | None = None
     spnn_play_memory: float | None = None
     spnn_play_no_reversal: str = "neither"
+    learners_play_no_reversal: str = "neither"
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
     spnn_prior_kl: float = 0.0
@@ -1063,6 +1067,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "spnn_init_from_prior",
     "pnn_avoidance_column",
     "spnn_play_no_reversal",
+    "learners_play_no_reversal",
 )
 
 #: Factors that give the sine path its own value of another factor (None: that factor's).
@@ -1182,6 +1187,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_switch_memory": "SPNN switch's memory H (m): avoidance kept until beyond d_th + H",
     "spnn_play_memory": "SPNN evaluated with a switch memory H (m) (training unchanged)",
     "spnn_play_no_reversal": "SPNN evaluated without immediate turn reversals (training unchanged)",
+    "learners_play_no_reversal": "every learner evaluated without immediate turn reversals",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",

@@ -76,3 +76,18 @@ def test_played_and_the_tools_wrap_the_memory_then_no_reversal(tmp_path) -> None
         True,
     ]
     assert no_reversal_of(parser.parse_args(["--no-reversal", "off"])) is False
+
+
+def test_learners_play_no_reversal_plays_every_learner_alike_on_its_paths() -> None:
+    """Figure 20's learners played alike: every learner's sine runs through NoReversal, the
+    straight runs, the baselines and the source columns as before; training specs unchanged."""
+    default = _plan()
+    alike = _plan((("learners_play_no_reversal", "sine"),))
+    learners = {"pnn-sine-s0", "sac_single-sine-s0", "sac_multi-sine-s0"}
+    for run_id, spec in default.items():
+        other = alike[run_id]
+        assert (spec.config_hash() != other.config_hash()) == (run_id in learners), run_id
+        for name in ("sac_kwargs", "env_kwargs", "validation", "eval_tasks", "deps"):
+            assert getattr(spec, name) == getattr(other, name), (run_id, name)
+    assert all(alike[r].play == {"no_reversal": True} for r in learners | {"spnn-sine-s0"})
+    assert PAPER.learners_play_no_reversal == OURS.learners_play_no_reversal == "neither"
