@@ -8,6 +8,8 @@ which prior the gate weighs most (:meth:`SelectivePolicy.gate_weights`), and att
 episode's ending to the column that led on most of its last ``--last`` decisions. It tells a
 failure of the avoidance skill (a collision with the avoidance column leading) from one of the
 hand-over (a collision or a crawl with the path column leading), which call for different fixes.
+The actions are played as the study played the run (``--no-reversal on|off`` overrides
+NoReversal); with a switch memory the leader is still read from the gate without memory.
 
 Prints per run the endings by leading column and the share of decisions each column led, then
 over all runs the share of each action while each column leads.
@@ -30,9 +32,12 @@ from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.evaluation import DEFAULT_START_NOISE
 from sb3_pnn.progressive.selective_policy import PRIOR_NAMES
 from sb3_pnn.reproduce.tools.replay import (
+    add_no_reversal_option,
+    no_reversal_of,
     run_env_kwargs,
     run_folders,
     run_model,
+    run_played,
     task_id,
     task_parser,
 )
@@ -41,8 +46,9 @@ from sb3_pnn.reproduce.tools.replay import (
 SHORT = ("path", "avoid")
 
 
-def leads(model: Any, env: gym.Env, episodes: int, last: int) -> dict[str, Any]:
-    """Replay ``model`` (an SPNN model: ``predict`` and ``policy.gate_weights``) for
+def leads(model: Any, env: gym.Env, episodes: int, last: int, policy: Any = None) -> dict[str, Any]:
+    """Replay ``model`` (an SPNN model: ``predict`` and ``policy.gate_weights``), or the
+    ``policy`` that plays it (its actions; the leader is read from the model's gate), for
     ``episodes`` episodes from the validation seed. Returns ``endings`` (a Counter of
     (end reason, leading prior index) over the episodes, the leader being the prior with the
     largest gate weight on most of the last ``last`` decisions, ties to the avoidance column),
@@ -51,6 +57,7 @@ def leads(model: Any, env: gym.Env, episodes: int, last: int) -> dict[str, Any]:
     endings: Counter = Counter()
     decisions: Counter = Counter()
     actions: dict[int, Counter] = {j: Counter() for j in range(len(PRIOR_NAMES))}
+    player = model if policy is None else policy
     for episode in range(episodes):
         obs, info = env.reset(seed=VALIDATION_SEED + episode)
         leaders: list[int] = []
@@ -58,7 +65,8 @@ def leads(model: Any, env: gym.Env, episodes: int, last: int) -> dict[str, Any]:
         while not done:
             batch = {key: np.asarray(value)[None] for key, value in obs.items()}
             leader = int(np.argmax(model.policy.gate_weights(batch)[0].numpy()))
-            action, _ = model.predict(obs, deterministic=True)
+            start = np.array([not leaders])
+            action, _ = player.predict(obs, episode_start=start, deterministic=True)
             leaders.append(leader)
             decisions[leader] += 1
             actions[leader][int(action)] += 1
@@ -91,6 +99,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--own-task", action="store_true", help="the task's own obstacles, not drawn ones"
     )
+    add_no_reversal_option(parser)
     args = parser.parse_args(argv)
     if args.last < 1:
         parser.error(f"--last {args.last} is not allowed: expected a number of decisions >= 1")
@@ -114,7 +123,8 @@ def main(argv: list[str] | None = None) -> int:
         if not args.own_task:
             kwargs["layout"] = DRAWN_VALIDATION_LAYOUT
         kwargs.setdefault("start_noise", DEFAULT_START_NOISE)
-        result = leads(model, gym.make(env_id, **kwargs), args.episodes, args.last)
+        policy = run_played(parser, run, model, no_reversal_of(args))
+        result = leads(model, gym.make(env_id, **kwargs), args.episodes, args.last, policy)
         share = result["decisions"][1] / max(1, sum(result["decisions"].values()))
         print(f"| {seed} | {ending_cells(result['endings'])} | {100 * share:.0f} % |")
         for j, counts in result["actions"].items():

@@ -27,8 +27,8 @@ class GoStraight:
 
     policy = _Gate()
 
-    def predict(self, obs, deterministic=True):
-        return ACTION_NAMES.index("Go straight"), None
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        return ACTION_NAMES.index("Go straight"), state
 
 
 def test_a_collision_is_laid_to_the_avoidance_column_and_a_clear_run_to_the_path_column() -> None:
@@ -55,3 +55,25 @@ def test_bad_arguments_stop_with_a_message(tmp_path, capsys) -> None:
     with pytest.raises(SystemExit):
         main([str(tmp_path), "--seeds", "0"])
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_the_actions_come_from_the_policy_that_plays_the_model() -> None:
+    """With a playing policy (as the study plays the run), its actions move the vehicle and
+    the leader is read from the model's gate; each episode starts with ``episode_start``."""
+
+    class TurnLeft:
+        def __init__(self):
+            self.starts = []
+
+        def predict(self, obs, state=None, episode_start=None, deterministic=True):
+            self.starts.append(bool(episode_start[0]))
+            return ACTION_NAMES.index("Turn left 2"), state
+
+    player = TurnLeft()
+    env = gym.make("rov_envs/PlanningStraight-v0", obstacles=[])
+    result = leads(GoStraight(), env, 2, 10, policy=player)
+    assert result["actions"][0][ACTION_NAMES.index("Turn left 2")] == sum(
+        result["decisions"].values()
+    )
+    assert player.starts.count(True) == 2 and player.starts[0]
+    assert not any(reason == "success" for reason, _ in result["endings"])  # it circles
