@@ -1,7 +1,7 @@
-"""What the play-time wrappers of a trained policy share (``NoReversal``, the corridor-release
-diagnosis): the wrapped policy's attributes pass through, so that an evaluation reads the
-model's task keywords (``trained_env``) and checks its spaces, and ``reset`` forgets the
-wrapper's memory and the wrapped policy's."""
+"""What the play-time wrappers of a trained policy share (``SwitchMemory``, ``NoReversal``, the
+corridor-release diagnosis): the wrapped policy's attributes pass through, so that an evaluation
+reads the model's task keywords (``trained_env``) and checks its spaces, and ``reset`` forgets
+the wrapper's memory and the wrapped policy's."""
 
 from __future__ import annotations
 
@@ -9,17 +9,18 @@ from typing import Any
 
 
 class PolicyWrapper:
-    """Holds ``policy`` (anything with SB3's ``predict``); subclasses keep a per-vehicle memory
-    and forget it in :meth:`forget`."""
+    """Holds ``wrapped`` (anything with SB3's ``predict``); subclasses keep a per-vehicle memory
+    and forget it in :meth:`forget`. Every other attribute is the wrapped policy's (``policy``
+    of a wrapped SB3 model is the model's own policy network, as without the wrapper)."""
 
-    def __init__(self, policy: Any):
-        self.policy = policy
+    def __init__(self, wrapped: Any):
+        self.wrapped = wrapped
 
     def __getattr__(self, name: str) -> Any:
-        policy = self.__dict__.get("policy")
-        if policy is None or name.startswith("__"):
+        wrapped = self.__dict__.get("wrapped")
+        if wrapped is None or name.startswith("__"):
             raise AttributeError(name)
-        return getattr(policy, name)
+        return getattr(wrapped, name)
 
     def forget(self) -> None:
         """Drop the wrapper's own memory (every vehicle)."""
@@ -28,5 +29,5 @@ class PolicyWrapper:
         """Forget every vehicle's memory (as ``episode_start`` true for all), here and in the
         wrapped policy where it has one."""
         self.forget()
-        if callable(getattr(self.policy, "reset", None)):
-            self.policy.reset()
+        if callable(getattr(self.wrapped, "reset", None)):
+            self.wrapped.reset()

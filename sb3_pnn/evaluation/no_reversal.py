@@ -78,7 +78,7 @@ class NoReversal(PolicyWrapper):
         self.previous = None
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):
-        actions, state = self.policy.predict(obs, state, episode_start, deterministic)
+        actions, state = self.wrapped.predict(obs, state, episode_start, deterministic)
         batch = np.atleast_1d(np.asarray(actions))
         played = without_reversals(batch, self.previous, episode_start)
         self.previous = played

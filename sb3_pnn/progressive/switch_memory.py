@@ -36,6 +36,7 @@ import torch as th
 
 from rov_envs.sim.engine import schmitt_trigger
 from sb3_pnn.common.checks import is_finite_number
+from sb3_pnn.common.policy_wrapper import PolicyWrapper
 
 
 def held_weight(
@@ -72,7 +73,7 @@ def remembered_switch(
     return schmitt_trigger(nearest, previous & ~starting.astype(bool), d_th, d_th + hysteresis)
 
 
-class SwitchMemory:
+class SwitchMemory(PolicyWrapper):
     """A trained SPNN whose distance gate remembers: the hard switch keeps the avoidance column
     until the nearest reading is beyond ``d_th + hysteresis`` (m), the soft gate holds the
     avoidance column's weight until then; ``predict`` as SB3's, one memory per vehicle.
@@ -96,21 +97,20 @@ class SwitchMemory:
         for name, value in (("hysteresis", hysteresis), ("d_th", d_th)):
             if value is not None and (not is_finite_number(value) or value < 0):
                 raise ValueError(f"{name}={value!r} is not allowed: expected a distance >= 0 (m)")
-        self.model, self.gate = model, gate
+        super().__init__(model)
+        self.gate = gate
         self.hysteresis = float(hysteresis)
         self.d_th = float(gate.d_th if d_th is None else d_th)
         self.near: np.ndarray | None = None
 
-    def __getattr__(self, name: str) -> Any:
-        """The model's other attributes (its spaces, ``trained_env``), so that an evaluation
-        reads the task keywords and checks the spaces of the model it plays."""
-        model = self.__dict__.get("model")
-        if model is None or name.startswith("__"):
-            raise AttributeError(name)
-        return getattr(model, name)
+    @property
+    def model(self) -> Any:
+        """The SPNN model played (its other attributes, spaces and ``trained_env`` among them,
+        pass through, so that an evaluation reads the model's task keywords and checks its
+        spaces)."""
+        return self.wrapped
 
-    def reset(self) -> None:
-        """Forget every vehicle's memory (as ``episode_start`` true for all)."""
+    def forget(self) -> None:
         self.near = None
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):

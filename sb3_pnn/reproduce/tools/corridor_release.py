@@ -58,6 +58,6 @@ class CorridorRelease(PolicyWrapper):
         # a bound of 0 cuts the vehicle's sample; the gate compares per sample
         self.gate.corridor = th.as_tensor(np.where(self.cut, 0.0, self.bound), dtype=th.float32)
         try:
-            return self.policy.predict(obs, state, episode_start, deterministic)
+            return self.wrapped.predict(obs, state, episode_start, deterministic)
         finally:
             self.gate.corridor = self.bound

@@ -115,3 +115,11 @@ def test_alternating_gentle_turns_creep_and_no_reversal_gets_further() -> None:
     assert chatter.count(GO_STRAIGHT) == 0 and played.count(GO_STRAIGHT) >= 15
     assert creep < 20.0 and steady > 1.6 * creep  # metres along the line in 60 s
     assert off_creep < 1.0 and off_steady < 1.0
+
+
+def test_a_wrapped_models_policy_network_stays_reachable() -> None:
+    """``policy`` of the wrapper is the wrapped model's policy network, as without it."""
+    inner = Scripted([[GO_STRAIGHT]])
+    inner.policy = "the model's policy network"
+    wrapper = NoReversal(inner)
+    assert wrapper.policy == "the model's policy network" and wrapper.wrapped is inner

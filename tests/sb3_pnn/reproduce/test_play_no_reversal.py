@@ -54,21 +54,21 @@ def test_played_and_the_tools_wrap_the_memory_then_no_reversal(tmp_path) -> None
     gate = DistanceGate("hard", d_th=12.5, sonar_range=25.0)
     model = SimpleNamespace(policy=SimpleNamespace(actor=SimpleNamespace(gate=gate)))
     policy = played({"switch_memory": 10.0, "no_reversal": True}, model)
-    assert isinstance(policy, NoReversal) and isinstance(policy.policy, SwitchMemory)
-    assert policy.policy.model is model
+    assert isinstance(policy, NoReversal) and isinstance(policy.wrapped, SwitchMemory)
+    assert policy.wrapped.model is model
     alone = played({"no_reversal": True}, model)
-    assert isinstance(alone, NoReversal) and alone.policy is model
+    assert isinstance(alone, NoReversal) and alone.wrapped is model
     assert played({}, model) is model
     spec = _plan()["spnn-sine-s0"]
     (tmp_path / "manifest.json").write_text(json.dumps({"spec": spec.to_dict()}))
     replayed = run_played(argparse.ArgumentParser(), tmp_path, model)
-    assert isinstance(replayed, NoReversal) and replayed.policy is model
+    assert isinstance(replayed, NoReversal) and replayed.wrapped is model
     # the tools' --no-reversal replays a run with or without it, whatever its spec named
     assert run_played(argparse.ArgumentParser(), tmp_path, model, no_reversal=False) is model
     straight = _plan()["spnn-straight-s0"]
     (tmp_path / "manifest.json").write_text(json.dumps({"spec": straight.to_dict()}))
     forced = run_played(argparse.ArgumentParser(), tmp_path, model, no_reversal=True)
-    assert isinstance(forced, NoReversal) and isinstance(forced.policy, SwitchMemory)
+    assert isinstance(forced, NoReversal) and isinstance(forced.wrapped, SwitchMemory)
     parser = argparse.ArgumentParser()
     add_no_reversal_option(parser)
     assert [no_reversal_of(parser.parse_args(a)) for a in ([], ["--no-reversal", "on"])] == [
