@@ -31,6 +31,11 @@ Factors:
   episode lasts up to 120 s): from its start the +200 of arriving is then worth less than a
   tenth of a collision's -200 met in the next seconds, and a column can settle on crawling
   until the time limit. At 0.5 s, 0.995 looks as far ahead in seconds as 0.99 does at 1.0 s.
+* ``pf_sine_gamma``: the discount factor of the sine path-following column's runs (None:
+  Tables 2-3's 0.99). That column flies parallel to its path a metre or two beside it, the LOS
+  course pointing back, rather than turning in: a turn now instead of one step later gains
+  about one step's reward, (1 - gamma) of Q's scale, which at 0.99 is 0.1 % of Q and easily
+  lost in the critic's error; a shorter discount widens that gap relative to Q.
 * ``spnn_gamma``, ``pnn_gamma``: the discount factor of SPNN's, PNN's planning runs (None:
   Tables 2-3's 0.99; PNN's n-step targets discount with it); ``pnn_gamma_sine``: PNN's on the
   sine path (None: ``pnn_gamma``'s). A planning episode lasts 150-400 s: 1.5 to 4 times what
@@ -214,6 +219,10 @@ Factors:
   skill is what SPNN's gate hands the vehicle to near obstacles, so a column that has not
   converged caps how often SPNN passes a field of them. Ours: 2 (with ``spnn_play_memory``,
   docs/ablation section 47).
+* ``pf_sine_budget``: the sine path-following column's training episodes, as a multiple of the
+  budget's (1: the budget's 150), its checks on their schedule as ``oa_budget``'s. At 150
+  episodes some columns are still improving at their last check, and the learners on the
+  sinusoid take over the route their column keeps.
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
   so that it reads there what it was trained on, in the SPNN's planning runs; no other run
@@ -350,6 +359,7 @@ class TrainingSetup:
     prior_updates: str = ""
     oa_updates: str = ""
     oa_gamma: float | None = None
+    pf_sine_gamma: float | None = None
     spnn_gamma: float | None = None
     pnn_gamma: float | None = None
     pnn_gamma_sine: float | None = None
@@ -413,6 +423,7 @@ class TrainingSetup:
     oa_corridor: float | None = None
     oa_time_limit: float | None = None
     oa_budget: float = 1.0
+    pf_sine_budget: float = 1.0
     oa_offset_obs: bool = False
     prior_candidates: int = 1
     prior_candidates_pf_straight: int | None = None
@@ -450,7 +461,7 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed: expected an integer >= {low}"
                     + (" (0: as batch_size)" if name == "prior_batch_size" else "")
                 )
-        for name in ("oa_gamma", "spnn_gamma", "pnn_gamma", "pnn_gamma_sine"):
+        for name in ("oa_gamma", "pf_sine_gamma", "spnn_gamma", "pnn_gamma", "pnn_gamma_sine"):
             gamma = getattr(self, name)
             if gamma is not None and not (is_finite_number(gamma) and 0.0 < gamma < 1.0):
                 fallback = (
@@ -654,11 +665,13 @@ class TrainingSetup:
                 f"oa_time_limit={limit!r} is not allowed: expected simulated seconds in "
                 "[10, 1000], or None for the task's own (120 s)"
             )
-        if not (is_finite_number(self.oa_budget) and 0 < self.oa_budget <= 20):
-            raise ValueError(
-                f"oa_budget={self.oa_budget!r} is not allowed: expected a multiple in (0, 20] of "
-                "the budget's avoidance-column episodes"
-            )
+        for name, column in (("oa_budget", "avoidance-column"), ("pf_sine_budget", "sine column")):
+            multiple = getattr(self, name)
+            if not (is_finite_number(multiple) and 0 < multiple <= 20):
+                raise ValueError(
+                    f"{name}={multiple!r} is not allowed: expected a multiple in (0, 20] of the "
+                    f"budget's {column} episodes"
+                )
         penalty = self.planning_obstacle_penalty
         if isinstance(penalty, bool) or not is_finite_number(penalty) or penalty < 0:
             raise ValueError(
@@ -804,7 +817,8 @@ class TrainingSetup:
         """DiscreteSAC keyword arguments (the rest are the paper's Tables 2-3 defaults); with
         ``prior``, those of a source column's run (``prior_updates``, ``prior_batch_size``; for
         ``column="oa"``, the avoidance column, ``oa_updates`` and ``oa_gamma`` where set; for the
-        path-following columns ``pf_straight`` / ``pf_sine``, ``pf_n_steps``);
+        path-following columns ``pf_straight`` / ``pf_sine``, ``pf_n_steps``, and for
+        ``pf_sine`` ``pf_sine_gamma``);
         ``agent="pnn"`` adds PNN's ``lateral_scale_init``, ``pnn_gamma`` and, on planning path
         ``path`` (``"straight"`` or ``"sine"``), ``critic_priors`` and ``start_as_prior``;
         ``agent="spnn"`` SPNN's ``d_th``, ``sigma``, ``own_weight``, ``start_as_prior`` and
@@ -821,7 +835,7 @@ class TrainingSetup:
         }
         if agent == "pnn" and not prior and self.pnn_net_arch:  # named only when set (hashes)
             kwargs["policy_kwargs"]["net_arch"] = list(self.pnn_net_arch)
-        gamma = self.oa_gamma if prior and column == "oa" else None
+        gamma = {"oa": self.oa_gamma, "pf_sine": self.pf_sine_gamma}.get(column) if prior else None
         if not prior and agent in ("spnn", "pnn"):
             gamma = self.spnn_gamma if agent == "spnn" else self.pnn_gamma_of(path)
         if gamma is not None and gamma != PAPER_GAMMA:  # named only off Table 2's (hashes)
@@ -979,10 +993,12 @@ class TrainingSetup:
 
     def column_episodes(self, column: str, budget_episodes: int) -> int:
         """Training episodes of source column ``column`` for a budget that gives it
-        ``budget_episodes``: scaled by ``oa_budget`` for the avoidance column (at least 1)."""
-        if column != "oa" or self.oa_budget == 1:
+        ``budget_episodes``: scaled by ``oa_budget`` for the avoidance column and by
+        ``pf_sine_budget`` for the sine path-following column (at least 1)."""
+        multiple = {"oa": self.oa_budget, "pf_sine": self.pf_sine_budget}.get(column, 1)
+        if multiple == 1:
             return int(budget_episodes)
-        return max(1, round(budget_episodes * self.oa_budget))
+        return max(1, round(budget_episodes * multiple))
 
     def column_candidates(self, column: str) -> int:
         """How many training runs source column ``column`` (``pf_straight``, ``pf_sine`` or
@@ -1150,6 +1166,7 @@ FACTOR_LABELS: dict[str, str] = {
     "prior_updates": "update schedule of the source columns",
     "oa_updates": "update schedule of the avoidance column",
     "oa_gamma": "discount gamma of the avoidance column",
+    "pf_sine_gamma": "discount gamma of the sine path-following column",
     "spnn_gamma": "discount gamma of SPNN's runs",
     "pnn_gamma": "discount gamma of PNN's runs",
     "pnn_gamma_sine": "discount gamma of PNN's runs on the sine path",
@@ -1215,6 +1232,7 @@ FACTOR_LABELS: dict[str, str] = {
     "oa_corridor": "corridor half-width of the avoidance task (m)",
     "oa_time_limit": "time limit of the avoidance task's training episodes (s)",
     "oa_budget": "avoidance column's training episodes (x the budget's)",
+    "pf_sine_budget": "sine path-following column's training episodes (x the budget's)",
     "oa_offset_obs": "avoidance column observes its distance from the route",
     "prior_candidates": "source column: best of this many training runs on its validation",
     "prior_candidates_pf_straight": "straight path-following column: best of this many runs",
@@ -1239,7 +1257,7 @@ def describe_value(name: str, value: Any) -> str:
         return "as the update schedule"
     if name == "oa_updates" and not value:
         return "as the source columns'"
-    if name in ("oa_gamma", "spnn_gamma", "pnn_gamma") and value is None:
+    if name in ("oa_gamma", "pf_sine_gamma", "spnn_gamma", "pnn_gamma") and value is None:
         return f"Tables 2-3's {PAPER_GAMMA}"
     if name == "prior_batch_size" and not value:
         return "as the samples per update"

@@ -439,12 +439,14 @@ def test_pnn_discount_per_path() -> None:
     ("factor", "runs"),
     [
         ("oa_gamma", {"prior-oa-s0"}),
+        ("pf_sine_gamma", {"prior-pf_sine-s0"}),
         ("spnn_gamma", {"spnn-straight-s0", "spnn-sine-s0"}),
         ("pnn_gamma", {"pnn-straight-s0", "pnn-sine-s0"}),
     ],
 )
 def test_discount_factors_change_only_their_runs(factor: str, runs: set[str]) -> None:
-    """``oa_gamma`` sets the avoidance column's discount alone, ``spnn_gamma`` SPNN's,
+    """``oa_gamma`` sets the avoidance column's discount alone, ``pf_sine_gamma`` the sine
+    path-following column's, ``spnn_gamma`` SPNN's,
     ``pnn_gamma`` PNN's; every other run keeps DiscreteSAC's 0.99 and its hash; a bad value is
     refused."""
     base = {s.run_id: s for s in build_plan(StudyConfig(seeds=1))}

@@ -591,23 +591,24 @@ def test_learner_sonar_noise_perturbs_the_learners_training_episodes_only() -> N
             OURS.with_(learner_sonar_noise=bad)
 
 
-def test_oa_budget_scales_the_avoidance_column_alone() -> None:
-    """oa_budget: the avoidance column's runs train that multiple of the budget's episodes (and
-    change spec); the path-following columns and every other run keep theirs and their hash;
-    bad values refused."""
-    one = (("oa_budget", 1.0),)
+@pytest.mark.parametrize(("factor", "column"), [("oa_budget", "oa"), ("pf_sine_budget", "pf_sine")])
+def test_column_budget_scales_its_column_alone(factor: str, column: str) -> None:
+    """oa_budget / pf_sine_budget: that column's runs train that multiple of the budget's
+    episodes (and change spec); the other columns and every other run keep theirs and their
+    hash; bad values refused."""
+    one = ((factor, 1.0),)
     plain = {s.run_id: s for s in build_plan(StudyConfig("tiny", seeds=1, setup_changes=one))}
-    changes = tuple(parse_setup_changes(["oa_budget=2"]).items())
+    changes = tuple(parse_setup_changes([f"{factor}=2"]).items())
     longer = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
     for spec in longer:
         base = plain[spec.run_id]
-        avoidance = spec.run_id.startswith("prior-oa-")
-        assert spec.episodes == (2 * base.episodes if avoidance else base.episodes), spec.run_id
-        assert (spec.config_hash() != base.config_hash()) is avoidance, spec.run_id
-    assert OURS.with_(oa_budget=0.01).column_episodes("oa", 3) == 1
+        scaled = spec.run_id.startswith(f"prior-{column}-")
+        assert spec.episodes == (2 * base.episodes if scaled else base.episodes), spec.run_id
+        assert (spec.config_hash() != base.config_hash()) is scaled, spec.run_id
+    assert OURS.with_(**{factor: 0.01}).column_episodes(column, 3) == 1
     for bad in (0.0, -1.0, 21.0, float("nan")):
-        with pytest.raises(ValueError, match="oa_budget=.* is not allowed"):
-            OURS.with_(oa_budget=bad)
+        with pytest.raises(ValueError, match=f"{factor}=.* is not allowed"):
+            OURS.with_(**{factor: bad})
 
 
 LEARNERS = ("pnn", "spnn", "sac_single", "sac_multi")
