@@ -186,7 +186,9 @@ Factors:
   minibatch by its left-right mirror image (``DiscreteSAC(mirror=rov_envs.LEFT_RIGHT_MIRROR)``,
   :mod:`sb3_pnn.common.mirror`): the tasks are mirror-symmetric, so a mirrored transition is a
   true one of the mirrored task, and a learner that trains on one fixed layout also learns it
-  with left and right swapped (not in the paper: off).
+  with left and right swapped (not in the paper: off). ``oa_mirror`` does the same for the
+  avoidance column's runs alone: trained on random fields it learns to detour to one side of
+  its start-goal line on nearly every episode, though the task has no preferred side.
 * ``sonar_span`` (degrees, centred ahead), ``sonar_sectors``: the sonar's span S and its q
   sectors (section 4.2.2; the paper gives neither: 180 and 9). The nearest reading is also
   eq. 15's d; with a span under 360 degrees it depends on the heading, and an obstacle beside
@@ -415,6 +417,7 @@ class TrainingSetup:
     pnn_exploration_epsilon: float | None = None
     pnn_exploration_epsilon_sine: float | None = None
     mirror_augmentation: bool = False
+    oa_mirror: bool = False
     goal_obs: bool = False
     pnn_goal_obs: bool = True
     goal_distance: float | None = None
@@ -862,6 +865,8 @@ class TrainingSetup:
         epsilon = self.exploration_epsilon_of(agent, path) if agent and not prior else 0.0
         if epsilon > 0:
             kwargs["exploration_epsilon"] = epsilon
+        if self.oa_mirror and prior and column == "oa":  # named only when on (hashes)
+            kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
         if self.mirror_augmentation and agent and not prior:  # named only when on, as epsilon
             kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
@@ -1220,6 +1225,7 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_exploration_epsilon_sine": "PNN: uniform action with probability epsilon on the sine path",
     "pnn_prior_kl": "PNN actor loss + beta KL(pi || prior)",
     "mirror_augmentation": "learners: half of each minibatch mirrored left-right",
+    "oa_mirror": "avoidance column: half of each minibatch mirrored left-right",
     "pnn_prior_kl_clearance": "PNN's KL term only where the nearest obstacle is farther (m)",
     "goal_obs": "goal part observed (avoidance reads it instead of the path)",
     "pnn_goal_obs": "PNN observes the goal part too",

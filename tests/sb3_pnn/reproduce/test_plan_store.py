@@ -646,6 +646,29 @@ def test_mirror_augmentation_reaches_the_learners_only_when_on() -> None:
     _assert_learners_only("mirror", rov_envs.LEFT_RIGHT_MIRROR, "mirror_augmentation=true")
 
 
+def test_oa_mirror_reaches_the_avoidance_column_only_and_trains_on_its_task() -> None:
+    """oa_mirror: the avoidance column's runs alone name rov_envs' mirror map (every other run
+    keeps its hash); the map fits ObstacleAvoidance's observation, which has no path part, and a
+    DiscreteSAC with it takes gradient steps there."""
+    import gymnasium as gym
+
+    from sb3_pnn import DiscreteSAC
+
+    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+    changes = tuple(parse_setup_changes(["oa_mirror=true"]).items())
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    for spec in plan:
+        column = spec.run_id.startswith("prior-oa-")
+        assert spec.sac_kwargs.get("mirror") == (rov_envs.LEFT_RIGHT_MIRROR if column else None)
+        assert (spec.config_hash() != plain[spec.run_id].config_hash()) is column, spec.run_id
+    spec = next(s for s in plan if s.run_id.startswith("prior-oa-"))
+    env = gym.make(spec.env_id, **{k: v for k, v in spec.env_kwargs.items() if k != "start_noise"})
+    model = DiscreteSAC("MultiInputPolicy", env, seed=0, device="cpu", **spec.sac_kwargs)
+    model.learn(300)
+    assert "path" not in model.mirror["observations"]
+    assert model._n_updates > 0
+
+
 def test_planning_obstacle_penalty_reaches_the_learners_planning_envs_only() -> None:
     """planning_obstacle_penalty: rov_envs' ``obstacle_penalty`` in the learners' training and
     evaluation envs (the source columns and baselines keep the paper's eq. 20 and their
