@@ -157,7 +157,8 @@ class _Schedule:
     def __init__(self, plan: list[RunSpec], store: RunStore, quiet: bool) -> None:
         self.by_id = {spec.run_id: spec for spec in plan}
         self.summary = ExecutionSummary()
-        self.finished = {spec.run_id for spec in plan if store.is_done(spec)}
+        planned = {spec.run_id: spec.config_hash() for spec in plan}
+        self.finished = {spec.run_id for spec in plan if store.is_done(spec, planned)}
         self.summary.skipped_finished = [s.run_id for s in plan if s.run_id in self.finished]
         self.pending = [spec for spec in plan if spec.run_id not in self.finished]
         self.running: dict[Any, str] = {}

@@ -12,7 +12,10 @@ A run writes everything into its temporary folder, then the folder is renamed to
 ``runs/<run_id>`` in one ``os.rename``, which is atomic and refuses to replace a non-empty
 folder: a finished run is never overwritten, and a killed study leaves only temporary folders,
 which the next start removes. On restart a run whose folder exists is skipped when its manifest's
-``config_hash`` equals the planned one, and is an error otherwise (use another ``--out``).
+``config_hash`` equals the planned one, and is an error otherwise (use another ``--out``). A
+run's manifest also records the ``config_hash`` of each prior it read (``deps_hashes``), so a
+run whose prior was removed and trained again with another configuration is an error too,
+not a result silently paired with a column it never read.
 """
 
 from __future__ import annotations
@@ -112,8 +115,10 @@ class RunStore:
             return None
         return json.loads(path.read_text())
 
-    def is_done(self, spec: RunSpec) -> bool:
-        """True when ``spec`` finished earlier; raises when it finished with another config."""
+    def is_done(self, spec: RunSpec, planned: dict[str, str] | None = None) -> bool:
+        """True when ``spec`` finished earlier; raises when it finished with another config, or
+        (with ``planned``, the plan's ``config_hash`` by run id) on a prior whose planned
+        configuration differs from the one it read."""
         folder = self.run_dir(spec.run_id)
         if not folder.exists():
             return False
@@ -129,6 +134,14 @@ class RunStore:
                 f"configuration (hash {manifest.get('config_hash')} != {spec.config_hash()}); "
                 "finished results are never overwritten: choose another --out for a changed study"
             )
+        for dep, read in (manifest.get("deps_hashes") or {}).items():
+            if planned and dep in planned and read != planned[dep]:
+                raise StudyConflictError(
+                    f"run {spec.run_id!r} in {os.fspath(self.out)!r} was trained on prior "
+                    f"{dep!r} with configuration hash {read}, but the plan's {dep!r} has hash "
+                    f"{planned[dep]}; finished results are never overwritten: choose another "
+                    "--out for a changed study"
+                )
         return True
 
     # ---- a run's life ----
@@ -145,6 +158,10 @@ class RunStore:
         run orphaned by a killed study finished meanwhile: the existing result is kept.
         """
         manifest = {**manifest, "run_id": spec.run_id, "config_hash": spec.config_hash()}
+        if spec.deps:  # what each prior read was (is_done checks it against the plan)
+            manifest["deps_hashes"] = {
+                dep: (self.manifest(dep) or {}).get("config_hash") for dep in spec.deps
+            }
         manifest.setdefault("status", "done")
         manifest["spec"] = spec.to_dict()
         write_json_atomic(tmp / MANIFEST, manifest)

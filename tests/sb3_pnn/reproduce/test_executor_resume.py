@@ -69,6 +69,33 @@ def test_failed_prior_blocks_its_dependents_and_is_retried(tmp_path) -> None:
     store.close()
 
 
+def test_a_prior_trained_again_differently_conflicts_with_the_runs_that_read_it(tmp_path) -> None:
+    """Each run's manifest records its priors' configuration hashes; when a prior's folder is
+    removed and the prior trained again under a changed factor (its learners' own specs
+    unchanged), resuming refuses the learners that read the old prior instead of pairing them
+    with the new one."""
+    import shutil
+
+    from sb3_pnn.reproduce.running.store import StudyConflictError
+
+    plan = build_plan(StudyConfig(budget_name="tiny", seeds=1))
+    store = RunStore(tmp_path)
+    store.open()
+    execute(plan, store, fake_work, jobs=2, quiet=True)
+    learner = next(s for s in plan if "prior-pf_sine-s0" in s.deps)
+    recorded = store.manifest(learner.run_id)["deps_hashes"]
+    assert recorded["prior-pf_sine-s0"] == store.manifest("prior-pf_sine-s0")["config_hash"]
+    assert execute(plan, store, fake_work, jobs=2, quiet=True).done == []  # resumes as before
+    shutil.rmtree(store.run_dir("prior-pf_sine-s0"))
+    changed = build_plan(
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pf_sine_budget", 2.0),))
+    )
+    assert next(s for s in changed if s.run_id == learner.run_id) == learner
+    with pytest.raises(StudyConflictError, match=r"trained on prior 'prior-pf_sine-s0'"):
+        execute(changed, store, fake_work, jobs=2, quiet=True)
+    store.close()
+
+
 def test_bad_jobs(tmp_path) -> None:
     store = RunStore(tmp_path)
     with pytest.raises(ValueError, match="jobs=0"):
