@@ -35,7 +35,8 @@ Factors:
   Tables 2-3's 0.99). That column flies parallel to its path a metre or two beside it, the LOS
   course pointing back, rather than turning in: a turn now instead of one step later gains
   about one step's reward, (1 - gamma) of Q's scale, which at 0.99 is 0.1 % of Q and easily
-  lost in the critic's error; a shorter discount widens that gap relative to Q.
+  lost in the critic's error. A shorter discount widens that gap relative to Q, and also
+  weighs the progress of the next few steps more against the charge for riding off the path.
 * ``spnn_gamma``, ``pnn_gamma``: the discount factor of SPNN's, PNN's planning runs (None:
   Tables 2-3's 0.99; PNN's n-step targets discount with it); ``pnn_gamma_sine``: PNN's on the
   sine path (None: ``pnn_gamma``'s). A planning episode lasts 150-400 s: 1.5 to 4 times what
@@ -865,9 +866,8 @@ class TrainingSetup:
         epsilon = self.exploration_epsilon_of(agent, path) if agent and not prior else 0.0
         if epsilon > 0:
             kwargs["exploration_epsilon"] = epsilon
-        if self.oa_mirror and prior and column == "oa":  # named only when on (hashes)
-            kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
-        if self.mirror_augmentation and agent and not prior:  # named only when on, as epsilon
+        mirrored = self.oa_mirror if prior else self.mirror_augmentation and bool(agent)
+        if mirrored and (column == "oa" or not prior):  # named only when on, as epsilon
             kwargs["mirror"] = copy.deepcopy(LEFT_RIGHT_MIRROR)
         n_steps = {"spnn": self.spnn_n_steps}.get(agent, 1)
         n_steps = self.pnn_n_steps_of(path) if agent == "pnn" else n_steps
