@@ -4,6 +4,7 @@
 * :mod:`.backends`: where the episodes run (rov_envs' batched engine, or any Gymnasium env);
 * :mod:`.result`: :class:`EvaluationResult` and the statistics behind Figures 12-20;
 * :mod:`.no_reversal`: :class:`NoReversal`, a policy played without immediate turn reversals;
+* :mod:`.played`: :func:`played_through`, a model played as the study plays it;
 * :mod:`.__main__`: the command line, ``python -m sb3_pnn.evaluate`` (or ``python -m
   sb3_pnn.evaluation``, ``sb3-pnn-evaluate``).
 """

@@ -32,11 +32,11 @@ from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.atomic import check_writable
 from sb3_pnn.evaluation import (
     DEFAULT_START_NOISE,
-    NoReversal,
     evaluate_policy_on_task,
     resolve_env_id,
 )
 from sb3_pnn.evaluation.evaluate import trained_env_kwargs
+from sb3_pnn.evaluation.played import played_through
 
 PROG = "python -m sb3_pnn.evaluate"
 
@@ -176,19 +176,10 @@ def run(argv: Sequence[str] | None = None) -> int:
             given["vehicle"] = args.vehicle
         policy, name = load_policy(args.model)
         env_kwargs = {**trained_env_kwargs(policy, env_id), **given}
-        if args.switch_memory is not None:
-            from sb3_pnn.progressive.switch_memory import SwitchMemory
-
-            try:
-                policy = SwitchMemory(policy, hysteresis=args.switch_memory)
-            except ValueError as exc:
-                raise _UsageError(f"--switch-memory {args.switch_memory}: {exc}") from exc
-        if args.no_reversal:
-            if isinstance(policy, str):
-                raise _UsageError(
-                    f"--no-reversal needs a trained model's zip; got the baseline {policy!r}"
-                )
-            policy = NoReversal(policy)
+        try:
+            policy = played_through(policy, args.switch_memory, args.no_reversal)
+        except ValueError as exc:
+            raise _UsageError(str(exc)) from exc
         try:
             result = evaluate_policy_on_task(
                 policy,

@@ -287,6 +287,20 @@ def _enjoy_parser() -> argparse.ArgumentParser:
     ours = parser.add_argument_group("sb3_pnn options")
     ours.add_argument("--record", metavar="PATH", help="record a video headless to PATH")
     ours.add_argument("--fps", type=int, default=20, help="frames per second of the recording")
+    ours.add_argument(
+        "--switch-memory",
+        type=float,
+        default=None,
+        metavar="H",
+        help="play an SPNN with a switch memory: the avoidance column keeps control until the "
+        "nearest reading is beyond d_th + H metres (as the study plays SPNN on the line)",
+    )
+    ours.add_argument(
+        "--no-reversal",
+        action="store_true",
+        help="play Go straight where the policy's turn reverses the step before's (as the "
+        "study plays SPNN on the sinusoid)",
+    )
     zoo = parser.add_argument_group("rl_zoo3.enjoy's options")
     zoo.add_argument("--env", help="environment id")
     zoo.add_argument("--algo", help="dsac, sac_multi, pnn or spnn")

@@ -181,7 +181,7 @@ def play(args: argparse.Namespace) -> list[np.ndarray]:
         raise ZooUsageError(f"cannot load {model_path}: {error}") from None
     if args.verbose > 0:
         print(f"Loading {model_path}")
-    frames = _run(model, env, args)
+    frames = _run(played_as_asked(model, args), env, args)
     env.close()
     if args.record:
         write_video(frames, args.record, args.fps)
@@ -190,11 +190,25 @@ def play(args: argparse.Namespace) -> list[np.ndarray]:
     return frames
 
 
+def played_as_asked(model: Any, args: argparse.Namespace) -> Any:
+    """``model`` played through a switch memory (``--switch-memory H``) and / or without
+    immediate turn reversals (``--no-reversal``), as the study plays SPNN's runs
+    (:func:`sb3_pnn.evaluation.played.played_through`); the model itself otherwise."""
+    from sb3_pnn.evaluation.played import played_through
+
+    try:
+        return played_through(model, args.switch_memory, args.no_reversal)
+    except ValueError as error:
+        raise ZooUsageError(str(error)) from None
+
+
 def _run(model: Any, env: Any, args: argparse.Namespace) -> list[np.ndarray]:
-    """Step ``model`` on ``env`` for ``args.n_timesteps`` steps (frames when recording)."""
+    """Step ``model`` (or a policy wrapping it) on ``env`` for ``args.n_timesteps`` steps
+    (frames when recording); ``episode_start`` tells a wrapper when an episode begins."""
     deterministic = not args.stochastic
     frames: list[np.ndarray] = []
     obs, _ = env.reset(seed=args.seed)
+    starting = True
     if args.record:
         frame = env.render()
         if frame is None:
@@ -202,7 +216,10 @@ def _run(model: Any, env: Any, args: argparse.Namespace) -> list[np.ndarray]:
         frames.append(np.asarray(frame))
     episode_reward, length, rewards, successes = 0.0, 0, [], []
     for _ in range(args.n_timesteps):
-        action, _ = model.predict(obs, deterministic=deterministic)
+        action, _ = model.predict(
+            obs, episode_start=np.array([starting]), deterministic=deterministic
+        )
+        starting = False
         obs, reward, terminated, truncated, info = env.step(action)
         if args.record:
             frames.append(np.asarray(env.render()))
@@ -217,6 +234,7 @@ def _run(model: Any, env: Any, args: argparse.Namespace) -> list[np.ndarray]:
                 successes.append(bool(info["is_success"]))
             episode_reward, length = 0.0, 0
             obs, _ = env.reset()
+            starting = True
     if args.verbose > 0 and rewards:
         print(f"{len(rewards)} episodes, mean reward {np.mean(rewards):.2f}")
     elif args.verbose > 0:

@@ -259,13 +259,6 @@ def played(play: dict[str, Any], model: Any) -> Any:
     """The trained ``model`` as the study evaluates it (a run spec's ``play``): through
     :class:`sb3_pnn.progressive.SwitchMemory` where a switch memory is named, then through
     :class:`sb3_pnn.evaluation.NoReversal` where ``no_reversal`` is; else itself."""
-    policy = model
-    if "switch_memory" in play:
-        from sb3_pnn.progressive.switch_memory import SwitchMemory
+    from sb3_pnn.evaluation.played import played_through
 
-        policy = SwitchMemory(policy, hysteresis=play["switch_memory"])
-    if play.get("no_reversal"):
-        from sb3_pnn.evaluation.no_reversal import NoReversal
-
-        policy = NoReversal(policy)
-    return policy
+    return played_through(model, play.get("switch_memory"), bool(play.get("no_reversal")))

@@ -123,8 +123,8 @@ def test_stand_in_study_writes_report_and_figures(tmp_path, capsys) -> None:
     # a smoke-sized budget is marked as such and gives no verdicts; the end reasons are explained
     # the set-up actually used, factor by factor
     assert "training set-up: `ours` (" in report and "update schedule 1 per 2 steps" in report
-    # the source columns' episodes as trained (ours doubles the avoidance column's)
-    assert "priors {'pf_straight': 3, 'pf_sine': 3, 'oa': 6}" in report
+    # the source columns' episodes as trained (ours doubles the avoidance and the sine columns')
+    assert "priors {'pf_straight': 3, 'pf_sine': 6, 'oa': 6}" in report
     assert "**Smoke test** (budget `tiny`" in report and "No verdicts from a smoke test" in report
     assert "agree" not in report.split("## Do we agree with the paper?")[1]
     assert all(f"`{reason}`: " in report for reason in END_REASONS if reason != "none")

@@ -88,7 +88,7 @@ def test_a_prior_trained_again_differently_conflicts_with_the_runs_that_read_it(
     assert execute(plan, store, fake_work, jobs=2, quiet=True).done == []  # resumes as before
     shutil.rmtree(store.run_dir("prior-pf_sine-s0"))
     changed = build_plan(
-        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pf_sine_budget", 2.0),))
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("pf_sine_budget", 3.0),))
     )
     assert next(s for s in changed if s.run_id == learner.run_id) == learner
     with pytest.raises(StudyConflictError, match=r"trained on prior 'prior-pf_sine-s0'"):

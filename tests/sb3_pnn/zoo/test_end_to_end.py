@@ -97,6 +97,14 @@ def test_enjoy_runs_the_zoo_loop(spnn_run: Path) -> None:
     assert "Loading" in result.stdout and "Episode" in result.stdout
 
 
+def test_enjoy_plays_spnn_as_the_study_does(spnn_run: Path) -> None:
+    result = run_cli(
+        "enjoy", "--algo", "spnn", "--env", PLAN_ENV, "-f", "logs", "-n", "40", "--no-render",
+        "--switch-memory", "10", "--no-reversal", cwd=spnn_run,
+    )  # fmt: skip
+    assert "Loading" in result.stdout and "Episode" in result.stdout
+
+
 @pytest.mark.parametrize("algo", ["pnn", "sac_multi"])
 def test_pnn_and_sac_multi_train_from_the_path_following_prior(
     algo: str, prior_logs: Path, tmp_path: Path
@@ -107,3 +115,9 @@ def test_pnn_and_sac_multi_train_from_the_path_following_prior(
         "train", "--algo", algo, "--env", PLAN_ENV, "-n", "60", "-f", "logs", *tiny, cwd=tmp_path
     )
     assert (tmp_path / "logs" / algo / f"{RUN}_1" / f"{RUN}.zip").is_file()
+    refused = run_cli(
+        "enjoy", "--algo", algo, "--env", PLAN_ENV, "-f", "logs", "-n", "5", "--no-render",
+        "--switch-memory", "10", cwd=tmp_path, check=False,
+    )  # fmt: skip
+    assert refused.returncode != 0
+    assert "--switch-memory 10" in refused.stderr and "SPNN" in refused.stderr
