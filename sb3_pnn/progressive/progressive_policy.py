@@ -42,6 +42,7 @@ from sb3_pnn.dsac.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
 from sb3_pnn.progressive.gates import DistanceGate
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
+from sb3_pnn.progressive.off_path import PATH_KEY, off_path_copies
 from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec, load_prior
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
 from sb3_pnn.safe_io.policy_registry import register_policy_class
@@ -127,18 +128,21 @@ class ProgressiveActor(BasePolicy):
             self._count_leads(g)
         return self.net(features, hidden, weights, self.own_weight)
 
-    def logits_and_prior_log_probs(self, obs: PyTorchObs) -> tuple[th.Tensor, th.Tensor]:
+    def logits_and_prior_log_probs(
+        self, obs: PyTorchObs, count_leads: bool = True
+    ) -> tuple[th.Tensor, th.Tensor]:
         """The logits of column k (with gradient) and, without gradient, the log-probabilities
         of the priors' own policy pi_0: for the SPNN the gate-selected prior's (a soft or learned
         gate mixes the priors' log-probabilities by its weights, then renormalises); for a PNN
         the prior's (the mean over several, or the ``reference_prior``'s alone). One pass: the
-        priors' hidden activations feed both the laterals and pi_0."""
+        priors' hidden activations feed both the laterals and pi_0. ``count_leads=False``
+        leaves the gate's lead counts alone (states made up for a loss term, not replayed)."""
         pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
         features = self.features_extractor(pre)
         inputs = [feed(pre) for feed in self.feeds]
         hidden = self.net.prior_hidden(inputs)
         weights, g = _lateral_weights(self.gate, self.sigma, pre, features)
-        if g is not None:
+        if g is not None and count_leads:
             self._count_leads(g)
         logits = self.net(features, hidden, weights, self.own_weight)
         with th.no_grad():
@@ -334,6 +338,11 @@ class ProgressivePolicy(DiscreteSACPolicy):
         column first and an obstacle-avoidance column beside it, as eq. 13 reads every
         earlier column (the paper's PNN has the path follower alone). None (default): every
         prior (the KL term's reference is their mean)
+    :param off_path_kl: Weight beta_off of the same KL term over off-path copies of each
+        minibatch (:mod:`.off_path`: the "path" part redrawn 0.3-1 corridor half-widths off the
+        path, the sonar clear), states a learner that keeps its path seldom replays, where its
+        new column would otherwise extrapolate freely (not in the paper; 0: off). Needs a Dict
+        observation with a "path" part
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -365,11 +374,26 @@ class ProgressivePolicy(DiscreteSACPolicy):
         prior_kl_clearance: float | None = None,
         action_smoothness: float = 0.0,
         reference_prior: int | None = None,
+        off_path_kl: float = 0.0,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
-        for name, value in (("prior_kl", prior_kl), ("action_smoothness", action_smoothness)):
+        for name, value in (
+            ("prior_kl", prior_kl),
+            ("action_smoothness", action_smoothness),
+            ("off_path_kl", off_path_kl),
+        ):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        if off_path_kl > 0 and (
+            not isinstance(observation_space, spaces.Dict)
+            or PATH_KEY not in observation_space.spaces
+            or observation_space.spaces[PATH_KEY].shape != (2,)
+        ):
+            raise ValueError(
+                f"off_path_kl={off_path_kl!r} redraws the observation's {PATH_KEY!r} part "
+                f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
+            )
+        self.off_path_kl = float(off_path_kl)
         self.prior_kl = float(prior_kl)
         self.action_smoothness = float(action_smoothness)
         self.prior_kl_clearance = _checked_clearance(prior_kl_clearance, observation_space)
@@ -478,6 +502,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
             kwargs["action_smoothness"] = self.action_smoothness
         if self.reference_prior is not None:  # named only when set, as saved models before it
             kwargs["reference_prior"] = self.reference_prior
+        if self.off_path_kl > 0:  # named only when on, as saved models before it
+            kwargs["off_path_kl"] = self.off_path_kl
         return kwargs
 
     # --- networks -------------------------------------------------------------------------
@@ -611,6 +637,20 @@ class ProgressivePolicy(DiscreteSACPolicy):
             **self._progressive_kwargs(),
             "prior_specs": [s.to_json() for s in self.prior_specs],
         }
+
+    def off_path_kl_term(self, observations: PyTorchObs) -> th.Tensor:
+        """mean_s' KL(pi(.|s') || pi_0(.|s')) over off-path copies s' of a replayed batch
+        (:mod:`.off_path`), with gradient to the actor; ``off_path_kl`` weighs it."""
+        sonar_key, zeroed = self._off_path_keys()
+        copies = off_path_copies(observations, sonar_key, zeroed)  # type: ignore[arg-type]
+        logits, prior_log_probs = self.actor.logits_and_prior_log_probs(copies, count_leads=False)
+        log_probs = F.log_softmax(logits, dim=1)
+        return (log_probs.exp() * (log_probs - prior_log_probs)).sum(dim=1).mean()
+
+    def _off_path_keys(self) -> tuple[str | None, tuple[str, ...]]:
+        """(the sonar's key or None, the keys zeroed) in the off-path copies."""
+        spaces_ = self.observation_space.spaces  # type: ignore[attr-defined]
+        return (SONAR_KEY if SONAR_KEY in spaces_ else None), ()
 
     def extra_logs(self) -> dict[str, float]:
         """Extra training logs (none for the PNN; the SPNN logs its gate, see subclass)."""

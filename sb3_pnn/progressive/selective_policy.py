@@ -111,6 +111,9 @@ class SelectivePolicy(ProgressivePolicy):
         (see :class:`ProgressivePolicy`; default 1; 0: off, the paper)
     :param action_smoothness: Weight of the temporal smoothness term in the actor's loss (see
         :class:`ProgressivePolicy`; 0: off, the paper)
+    :param off_path_kl: Weight of the KL term over off-path copies of each minibatch (see
+        :class:`ProgressivePolicy`; the copies' sonar reads clear and their latch, if any, 0,
+        so the gate selects the path-following prior; 0: off, the paper)
     """
 
     def __init__(
@@ -146,6 +149,7 @@ class SelectivePolicy(ProgressivePolicy):
         init_from_prior: bool = False,
         prior_kl: float = DEFAULT_PRIOR_KL,
         action_smoothness: float = 0.0,
+        off_path_kl: float = 0.0,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -211,6 +215,7 @@ class SelectivePolicy(ProgressivePolicy):
             init_from_prior,
             prior_kl,
             action_smoothness=action_smoothness,
+            off_path_kl=off_path_kl,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:
@@ -241,6 +246,10 @@ class SelectivePolicy(ProgressivePolicy):
 
     def _mixing(self) -> tuple[float, float]:
         return self.sigma, self.own_weight
+
+    def _off_path_keys(self) -> tuple[str | None, tuple[str, ...]]:
+        latch = () if self.gate_latch_key is None else (self.gate_latch_key,)
+        return self.sonar_key, latch
 
     def _progressive_kwargs(self) -> dict[str, Any]:
         return dict(

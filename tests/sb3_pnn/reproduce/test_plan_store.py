@@ -646,6 +646,35 @@ def test_mirror_augmentation_reaches_the_learners_only_when_on() -> None:
     _assert_learners_only("mirror", rov_envs.LEFT_RIGHT_MIRROR, "mirror_augmentation=true")
 
 
+def test_spnn_off_path_kl_reaches_spnn_runs_on_the_path_it_names() -> None:
+    """spnn_off_path_kl_sine (the default: 1): SPNN's sine runs alone name ``off_path_kl``; with
+    it at 0 no run names it and every other run keeps its hash; spnn_off_path_kl with the sine
+    refinement null names it on both paths; a negative weight is refused by name."""
+    off = (("spnn_off_path_kl_sine", 0.0),)
+    plain = {
+        s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=off))
+    }
+    assert all("off_path_kl" not in s.sac_kwargs.get("policy_kwargs", {}) for s in plain.values())
+    cases = (
+        ((), ("sine",), 1.0),
+        (("spnn_off_path_kl=0.5", "spnn_off_path_kl_sine=null"), ("straight", "sine"), 0.5),
+    )
+    for settings, paths, value in cases:
+        changes = tuple(parse_setup_changes(list(settings)).items())
+        for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+            on = spec.agent == "spnn" and spec.path in paths
+            weight = spec.sac_kwargs.get("policy_kwargs", {}).get("off_path_kl")
+            assert weight == (value if on else None), spec.run_id
+            assert (spec.config_hash() != plain[spec.run_id].config_hash()) is on, spec.run_id
+    with pytest.raises(
+        ValueError,
+        match=r"spnn_off_path_kl_sine=-1.0 is not allowed: expected a finite weight >= 0",
+    ):
+        StudyConfig(
+            budget_name="tiny", seeds=1, setup_changes=(("spnn_off_path_kl_sine", -1.0),)
+        ).setup()
+
+
 def test_oa_mirror_reaches_the_avoidance_column_only_and_trains_on_its_task() -> None:
     """oa_mirror: the avoidance column's runs alone name rov_envs' mirror map (every other run
     keeps its hash); the map fits ObstacleAvoidance's observation, which has no path part, and a
