@@ -165,7 +165,9 @@ Factors:
   paper: 0). ``spnn_off_path_kl_sine`` gives the sine path a weight of its own (None:
   ``spnn_off_path_kl``'s). Only SPNN runs read them. Ours: 1 on the sinusoid (docs/ablation
   section 59: +8.0 points of drawn fields over ten seeds; the straight path's runs already
-  pass theirs and were not trained with it).
+  pass theirs and were not trained with it). ``pnn_off_path_kl``: the same for PNN's runs,
+  whose reference is the path-following column (not in the paper: 0); ``pnn_off_path_kl_sine``
+  gives the sine path a weight of its own (None: ``pnn_off_path_kl``'s).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -419,6 +421,8 @@ class TrainingSetup:
     pnn_prior_kl_clearance: float | None = None
     spnn_off_path_kl: float = 0.0
     spnn_off_path_kl_sine: float | None = None
+    pnn_off_path_kl: float = 0.0
+    pnn_off_path_kl_sine: float | None = None
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
     pnn_n_steps_sine: int | None = None
@@ -549,6 +553,12 @@ class TrainingSetup:
         _check_refined_numbers(
             self,
             ("spnn_off_path_kl", "spnn_off_path_kl_sine"),
+            lambda value: value >= 0.0,
+            "a finite weight >= 0",
+        )
+        _check_refined_numbers(
+            self,
+            ("pnn_off_path_kl", "pnn_off_path_kl_sine"),
             lambda value: value >= 0.0,
             "a finite weight >= 0",
         )
@@ -899,6 +909,8 @@ class TrainingSetup:
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
         off_path = self.spnn_off_path_kl_of(path) if agent == "spnn" else 0.0
+        if agent == "pnn":
+            off_path = float(self._on_sine_path("pnn_off_path_kl_sine", self.pnn_off_path_kl, path))
         if off_path > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["off_path_kl"] = off_path
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
@@ -1126,6 +1138,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_exploration_epsilon_sine",
     "pnn_gamma_sine",
     "spnn_off_path_kl_sine",
+    "pnn_off_path_kl_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1244,6 +1257,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_prior_kl": "SPNN actor loss + beta KL(pi || selected prior)",
     "spnn_off_path_kl": "SPNN: the same KL term over off-path copies of each minibatch",
     "spnn_off_path_kl_sine": "SPNN: the off-path KL term's weight on the sine path",
+    "pnn_off_path_kl": "PNN: its KL term over off-path copies of each minibatch too",
+    "pnn_off_path_kl_sine": "PNN: the off-path KL term's weight on the sine path",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",

@@ -649,7 +649,8 @@ def test_mirror_augmentation_reaches_the_learners_only_when_on() -> None:
 def test_spnn_off_path_kl_reaches_spnn_runs_on_the_path_it_names() -> None:
     """spnn_off_path_kl_sine (the default: 1): SPNN's sine runs alone name ``off_path_kl``; with
     it at 0 no run names it and every other run keeps its hash; spnn_off_path_kl with the sine
-    refinement null names it on both paths; a negative weight is refused by name."""
+    refinement null names it on both paths; pnn_off_path_kl names it in PNN's runs alone; a
+    negative weight is refused by name."""
     off = (("spnn_off_path_kl_sine", 0.0),)
     plain = {
         s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=off))
@@ -666,6 +667,10 @@ def test_spnn_off_path_kl_reaches_spnn_runs_on_the_path_it_names() -> None:
             weight = spec.sac_kwargs.get("policy_kwargs", {}).get("off_path_kl")
             assert weight == (value if on else None), spec.run_id
             assert (spec.config_hash() != plain[spec.run_id].config_hash()) is on, spec.run_id
+    changes = (*off, ("pnn_off_path_kl", 2.0))
+    for spec in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes)):
+        weight = spec.sac_kwargs.get("policy_kwargs", {}).get("off_path_kl")
+        assert weight == (2.0 if spec.agent == "pnn" else None), spec.run_id
     with pytest.raises(
         ValueError,
         match=r"spnn_off_path_kl_sine=-1.0 is not allowed: expected a finite weight >= 0",
