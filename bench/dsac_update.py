@@ -2,8 +2,9 @@
 
 Prints milliseconds per gradient step (CPU time, one torch thread) for DiscreteSAC with plain
 columns (with its default fused Adam and with PyTorch's default for-each Adam) and with the SPNN's
-three columns (also with half of each batch mirrored, ``mirror=rov_envs.LEFT_RIGHT_MIRROR``),
-and for SB3's DQN (one Q-network and its target, the
+three columns (also with half of each batch mirrored, ``mirror=rov_envs.LEFT_RIGHT_MIRROR``,
+and with the prior KL term over off-path copies of each batch, ``off_path_kl=1``, the study's
+sine SPNN), and for SB3's DQN (one Q-network and its target, the
 cheapest off-policy update SB3 ships), on PlanningStraight-v0's observation, batch 256, and the
 ratio DiscreteSAC / DQN. Timings alternate between the learners, ``--repeats`` rounds, and the
 median round is kept, so that other load on the machine affects all of them alike.
@@ -159,6 +160,12 @@ def main() -> None:
                     SelectivePolicy,
                     env,
                     policy_kwargs={"net_arch": arch, "priors": prior_paths},
+                    **sac_kw,
+                ),
+                "DiscreteSAC + SPNN, off-path KL": DiscreteSAC(
+                    SelectivePolicy,
+                    env,
+                    policy_kwargs={"net_arch": arch, "priors": prior_paths, "off_path_kl": 1.0},
                     **sac_kw,
                 ),
                 "DiscreteSAC + SPNN, mirror": DiscreteSAC(
