@@ -410,6 +410,14 @@ class DiscreteSAC(OffPolicyAlgorithm):
         critic_params, target_params = self._polyak_params()
         prior_kl = float(getattr(self.policy, "prior_kl", 0.0))
         off_path_kl = float(getattr(self.policy, "off_path_kl", 0.0))
+        copy_terms = [  # (weight, whether the copies' path part is redrawn): see .off_path
+            (weight, redraw)
+            for weight, redraw in (
+                (off_path_kl, True),
+                (float(getattr(self.policy, "clear_kl", 0.0)), False),
+            )
+            if weight > 0
+        ]
         smoothness = float(getattr(self.policy, "action_smoothness", 0.0))
         if smoothness > 0 and isinstance(self.replay_buffer, DictNStepReplayBuffer):
             self.replay_buffer.step_successors = True  # its s' is s_t+n; s_t+1 comes beside it
@@ -466,9 +474,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 next_logits=step_logits,
                 action_smoothness=smoothness,
             )
-            if off_path_kl > 0:  # the prior KL term over off-path copies of the batch as well
-                term = self.policy.off_path_kl_term(replay_data.observations)  # type: ignore[attr-defined]
-                losses = losses._replace(actor_loss=losses.actor_loss + off_path_kl * term)
+            for weight, redraw in copy_terms:  # the prior KL term over copies of the batch too
+                term = self.policy.off_path_kl_term(replay_data.observations, redraw)  # type: ignore[attr-defined]
+                losses = losses._replace(actor_loss=losses.actor_loss + weight * term)
 
             # Optimize the entropy coefficient (alpha, the "temperature")
             if losses.ent_coef_loss is not None and self.ent_coef_optimizer is not None:

@@ -40,7 +40,7 @@ from torch.nn import functional as F
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.dsac.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
-from sb3_pnn.progressive.gates import DistanceGate
+from sb3_pnn.progressive.gates import DistanceGate, checked_corridor
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
 from sb3_pnn.progressive.off_path import PATH_KEY, off_path_copies
 from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec, load_prior
@@ -67,6 +67,45 @@ def _checked_clearance(clearance: Any, observation_space: spaces.Space) -> float
             f"observation key, which this observation space lacks: {observation_space}"
         )
     return float(clearance)
+
+
+def _checked_near_reference(
+    prior: Any, corridor: Any, policy: ProgressivePolicy, observation_space: spaces.Space
+) -> tuple[int | None, float | None]:
+    """``near_reference_prior`` and ``near_reference_corridor`` checked against the policy's
+    priors, ``reference_prior`` and ``prior_kl_clearance``; a ValueError names a bad value."""
+    if prior is None:
+        if corridor is not None:
+            raise ValueError(
+                f"near_reference_corridor={corridor!r} needs near_reference_prior (it bounds "
+                "where the near samples' reference applies)"
+            )
+        return None, None
+    n = len(policy.prior_specs)
+    if isinstance(prior, bool) or not isinstance(prior, int) or not 0 <= prior < n:
+        raise ValueError(
+            f"near_reference_prior={prior!r} is not allowed: expected None or a prior index in "
+            f"[0, {n - 1}]"
+        )
+    if policy.reference_prior is None or prior == policy.reference_prior:
+        raise ValueError(
+            f"near_reference_prior={prior!r} needs a reference_prior other than it, got "
+            f"reference_prior={policy.reference_prior!r}"
+        )
+    if policy.prior_kl_clearance is None:
+        raise ValueError(
+            f"near_reference_prior={prior!r} needs prior_kl_clearance, the distance (m) that "
+            "tells near samples from far ones"
+        )
+    corridor = checked_corridor(corridor, "near_reference_corridor")
+    if corridor is not None and (
+        not isinstance(observation_space, spaces.Dict) or PATH_KEY not in observation_space.spaces
+    ):
+        raise ValueError(
+            f"near_reference_corridor={corridor!r} reads the observation's {PATH_KEY!r} part "
+            f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
+        )
+    return prior, corridor
 
 
 def _lateral_weights(
@@ -98,6 +137,7 @@ class ProgressiveActor(BasePolicy):
         normalize_images: bool = True,
         kl_gate: DistanceGate | None = None,
         reference_prior: int | None = None,
+        near_reference_prior: int | None = None,
     ):
         super().__init__(
             observation_space,
@@ -107,6 +147,7 @@ class ProgressiveActor(BasePolicy):
         )
         self.kl_gate = kl_gate
         self.reference_prior = reference_prior
+        self.near_reference_prior = near_reference_prior
         self.features_dim = features_dim
         self.net = net
         self.feeds = list(feeds)
@@ -134,9 +175,11 @@ class ProgressiveActor(BasePolicy):
         """The logits of column k (with gradient) and, without gradient, the log-probabilities
         of the priors' own policy pi_0: for the SPNN the gate-selected prior's (a soft or learned
         gate mixes the priors' log-probabilities by its weights, then renormalises); for a PNN
-        the prior's (the mean over several, or the ``reference_prior``'s alone). One pass: the
-        priors' hidden activations feed both the laterals and pi_0. ``count_leads=False``
-        leaves the gate's lead counts alone (states made up for a loss term, not replayed)."""
+        the prior's (the mean over several, or the ``reference_prior``'s alone; with a
+        ``near_reference_prior``, that prior's on the samples ``kl_gate`` finds near an
+        obstacle). One pass: the priors' hidden activations feed both the laterals and pi_0.
+        ``count_leads=False`` leaves the gate's lead counts alone (states made up for a loss
+        term, not replayed)."""
         pre = preprocess_obs(obs, self.observation_space, normalize_images=self.normalize_images)
         features = self.features_extractor(pre)
         inputs = [feed(pre) for feed in self.feeds]
@@ -149,7 +192,13 @@ class ProgressiveActor(BasePolicy):
             if self.reference_prior is not None:
                 j = self.reference_prior
                 col = self.net.priors[j]
-                return logits, F.log_softmax(col.output(hidden[j], inputs[j]), dim=1)
+                reference = F.log_softmax(col.output(hidden[j], inputs[j]), dim=1)
+                k = self.near_reference_prior
+                if k is None or self.kl_gate is None:
+                    return logits, reference
+                near = F.log_softmax(self.net.priors[k].output(hidden[k], inputs[k]), dim=1)
+                is_near = self.kl_gate(pre)[:, 1:] > 0.5  # (B, 1): the hard switch's choice
+                return logits, th.where(is_near, near, reference)
             own = [
                 F.log_softmax(col.output(h, x), dim=1)
                 for col, h, x in zip(self.net.priors, hidden, inputs, strict=True)
@@ -162,8 +211,9 @@ class ProgressiveActor(BasePolicy):
     def prior_kl_weights(self, obs: PyTorchObs) -> th.Tensor | None:
         """Per-sample weights (B,) of the KL term toward pi_0: 1 where the nearest obstacle is
         farther than the policy's ``prior_kl_clearance``, 0 where it is nearer (eq. 15's switch
-        with that distance); None: the term weighs every sample."""
-        if self.kl_gate is None:
+        with that distance); None: the term weighs every sample (also when the near samples
+        have a reference of their own, ``near_reference_prior``)."""
+        if self.kl_gate is None or self.near_reference_prior is not None:
             return None
         return self.kl_gate(obs)[:, 0]
 
@@ -338,11 +388,27 @@ class ProgressivePolicy(DiscreteSACPolicy):
         column first and an obstacle-avoidance column beside it, as eq. 13 reads every
         earlier column (the paper's PNN has the path follower alone). None (default): every
         prior (the KL term's reference is their mean)
+    :param near_reference_prior: With ``reference_prior`` and ``prior_kl_clearance``, the
+        index of the prior whose policy the KL term pulls toward on the samples nearer an
+        obstacle than the clearance (inside ``near_reference_corridor`` where that is set),
+        instead of leaving them out: e.g. 1 for a PNN that reads an obstacle-avoidance column
+        beside its path-following one, so that near obstacles its new column is held to the
+        avoidance skill as beyond them to the route (eq. 15's switch choosing the KL term's
+        reference, the output still eq. 13's). None (default): those samples are left out
+    :param near_reference_corridor: With ``near_reference_prior``, a fraction c of the
+        corridor half-width d_L: samples with abs(g) / d_L >= c keep the path reference whatever
+        the sonar reads (the SPNN gate's corridor bound; needs a "path" observation part).
+        None: the distance alone decides
     :param off_path_kl: Weight beta_off of the same KL term over off-path copies of each
         minibatch (:mod:`.off_path`: the "path" part redrawn 0.3-1 corridor half-widths off the
         path, the sonar clear), states a learner that keeps its path seldom replays, where its
         new column would otherwise extrapolate freely (not in the paper; 0: off). Needs a Dict
         observation with a "path" part
+    :param clear_kl: Weight of the same KL term over copies of each minibatch whose sonar reads
+        clear and whose path part is kept (:mod:`.off_path`): with ``prior_kl_clearance`` the
+        reference there is the path-following prior, so a new column that reads an avoidance
+        column keeps following the path as its prior does in open water (not in the paper; 0:
+        off). Needs a ``sonar`` observation part
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -375,12 +441,16 @@ class ProgressivePolicy(DiscreteSACPolicy):
         action_smoothness: float = 0.0,
         reference_prior: int | None = None,
         off_path_kl: float = 0.0,
+        near_reference_prior: int | None = None,
+        near_reference_corridor: float | None = None,
+        clear_kl: float = 0.0,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         for name, value in (
             ("prior_kl", prior_kl),
             ("action_smoothness", action_smoothness),
             ("off_path_kl", off_path_kl),
+            ("clear_kl", clear_kl),
         ):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -393,7 +463,16 @@ class ProgressivePolicy(DiscreteSACPolicy):
                 f"off_path_kl={off_path_kl!r} redraws the observation's {PATH_KEY!r} part "
                 f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
             )
+        if clear_kl > 0 and (
+            not isinstance(observation_space, spaces.Dict)
+            or SONAR_KEY not in observation_space.spaces
+        ):
+            raise ValueError(
+                f"clear_kl={clear_kl!r} clears the observation's {SONAR_KEY!r} part, which this "
+                f"observation space lacks: {observation_space}"
+            )
         self.off_path_kl = float(off_path_kl)
+        self.clear_kl = float(clear_kl)
         self.prior_kl = float(prior_kl)
         self.action_smoothness = float(action_smoothness)
         self.prior_kl_clearance = _checked_clearance(prior_kl_clearance, observation_space)
@@ -422,6 +501,9 @@ class ProgressivePolicy(DiscreteSACPolicy):
                 f"index in [0, {len(self.prior_specs) - 1}]"
             )
         self.reference_prior = reference_prior
+        self.near_reference_prior, self.near_reference_corridor = _checked_near_reference(
+            near_reference_prior, near_reference_corridor, self, observation_space
+        )
         new_obs = obs_spec_from_space(observation_space)
         self.feeds = [
             match_prior_obs(s.obs, new_obs, f"prior {i} ({s.source or s.algo})")
@@ -504,6 +586,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
             kwargs["reference_prior"] = self.reference_prior
         if self.off_path_kl > 0:  # named only when on, as saved models before it
             kwargs["off_path_kl"] = self.off_path_kl
+        if self.near_reference_prior is not None:  # named only when set, as saved models before
+            kwargs["near_reference_prior"] = self.near_reference_prior
+            if self.near_reference_corridor is not None:
+                kwargs["near_reference_corridor"] = self.near_reference_corridor
+        if self.clear_kl > 0:  # named only when on, as saved models before it
+            kwargs["clear_kl"] = self.clear_kl
         return kwargs
 
     # --- networks -------------------------------------------------------------------------
@@ -590,10 +678,18 @@ class ProgressivePolicy(DiscreteSACPolicy):
             own_weight=own,
             normalize_images=self.normalize_images,
             reference_prior=self.reference_prior,
+            near_reference_prior=self.near_reference_prior,
             kl_gate=(
                 None
                 if self.prior_kl_clearance is None
-                else DistanceGate("hard", self.prior_kl_clearance, SONAR_RANGE, SONAR_KEY)
+                else DistanceGate(
+                    "hard",
+                    self.prior_kl_clearance,
+                    SONAR_RANGE,
+                    SONAR_KEY,
+                    corridor=self.near_reference_corridor,
+                    path_key=PATH_KEY,
+                )
             ),
         )
         return actor.to(self.device)
@@ -638,11 +734,13 @@ class ProgressivePolicy(DiscreteSACPolicy):
             "prior_specs": [s.to_json() for s in self.prior_specs],
         }
 
-    def off_path_kl_term(self, observations: PyTorchObs) -> th.Tensor:
+    def off_path_kl_term(self, observations: PyTorchObs, redraw_path: bool = True) -> th.Tensor:
         """mean_s' KL(pi(.|s') || pi_0(.|s')) over off-path copies s' of a replayed batch
-        (:mod:`.off_path`), with gradient to the actor; ``off_path_kl`` weighs it."""
+        (:mod:`.off_path`), with gradient to the actor; ``off_path_kl`` weighs it. With
+        ``redraw_path=False`` the copies keep their path part and only read a clear sonar
+        (the term ``clear_kl`` weighs)."""
         sonar_key, zeroed = self._off_path_keys()
-        copies = off_path_copies(observations, sonar_key, zeroed)  # type: ignore[arg-type]
+        copies = off_path_copies(observations, sonar_key, zeroed, redraw_path=redraw_path)  # type: ignore[arg-type]
         logits, prior_log_probs = self.actor.logits_and_prior_log_probs(copies, count_leads=False)
         log_probs = F.log_softmax(logits, dim=1)
         return (log_probs.exp() * (log_probs - prior_log_probs)).sum(dim=1).mean()

@@ -30,7 +30,7 @@ from sb3_pnn.zoo.runs import latest_run_with, runs_summary
 
 # What each prior is for, per algo, in the order the policy takes them (for messages).
 PRIOR_ROLES: dict[str, tuple[str, ...]] = {
-    "pnn": ("path-following",),
+    "pnn": ("path-following", "obstacle-avoidance"),  # the second where a config names it
     "spnn": ("path-following", "obstacle-avoidance"),
     "sac_multi": ("path-following",),
 }
@@ -108,7 +108,8 @@ def resolve_priors(
         if items and len(override) != len(items):
             raise ZooUsageError(
                 f"--priors got {len(override)} path(s) but {algo} on {env_id} takes "
-                f"{len(items)} ({', '.join(roles) or 'see the config'}), in that order"
+                f"{len(items)} ({', '.join(roles[: len(items)]) or 'see the config'}), in that "
+                "order"
             )
         items = list(override)
     paths: list[str] = []
@@ -123,7 +124,7 @@ def resolve_priors(
                     f"missing {role} prior for {algo} on {env_id}: {error}; "
                     f"make it with: {ref.train_command(log_folder)} "
                     f"(or pass the checkpoints with --priors, in the order "
-                    f"{', '.join(roles) or 'of the config'})"
+                    f"{', '.join(roles[: len(items)]) or 'of the config'})"
                 ) from None
         else:
             path = ref

@@ -105,6 +105,12 @@ Factors:
   ``pnn_start_as_prior`` and ``pnn_prior_kl`` (``ProgressivePolicy(reference_prior=0)``); the
   avoidance column's output lateral starts at zero. It separates what SPNN gains from its
   second column from what it gains from its gate. Only PNN runs read it.
+  ``pnn_near_prior_kl`` (values as ``pnn_critic_priors``; it acts on paths where PNN reads
+  the avoidance column and ``pnn_prior_kl_clearance`` is set): on the samples nearer an
+  obstacle than the clearance, and inside SPNN's corridor bound ``spnn_gate_corridor`` where
+  set, PNN's KL term pulls toward the avoidance column instead of leaving them out
+  (``ProgressivePolicy(near_reference_prior=1)``): the switch of eq. 15 picks the reference of
+  the regularizer, not the network's input; not in the paper.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it; ``spnn_d_th_sine``
@@ -167,7 +173,10 @@ Factors:
   section 59: +8.0 points of drawn fields over ten seeds; the straight path's runs already
   pass theirs and were not trained with it). ``pnn_off_path_kl``: the same for PNN's runs,
   whose reference is the path-following column (not in the paper: 0); ``pnn_off_path_kl_sine``
-  gives the sine path a weight of its own (None: ``pnn_off_path_kl``'s).
+  gives the sine path a weight of its own (None: ``pnn_off_path_kl``'s). ``pnn_clear_kl``
+  (``pnn_clear_kl_sine`` for the sine path, None: ``pnn_clear_kl``'s): the weight of PNN's KL
+  term over copies of each minibatch that keep the path part and read a clear sonar, where the
+  path-following column is the reference (not in the paper: 0).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -404,6 +413,7 @@ class TrainingSetup:
     pnn_init_from_prior: str = "neither"
     spnn_init_from_prior: str = "neither"
     pnn_avoidance_column: str = "neither"
+    pnn_near_prior_kl: str = "neither"
     spnn_d_th: float = PAPER_D_TH
     spnn_d_th_sine: float | None = None
     spnn_gate: str = "hard"
@@ -423,6 +433,8 @@ class TrainingSetup:
     spnn_off_path_kl_sine: float | None = None
     pnn_off_path_kl: float = 0.0
     pnn_off_path_kl_sine: float | None = None
+    pnn_clear_kl: float = 0.0
+    pnn_clear_kl_sine: float | None = None
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
     pnn_n_steps_sine: int | None = None
@@ -559,6 +571,12 @@ class TrainingSetup:
         _check_refined_numbers(
             self,
             ("pnn_off_path_kl", "pnn_off_path_kl_sine"),
+            lambda value: value >= 0.0,
+            "a finite weight >= 0",
+        )
+        _check_refined_numbers(
+            self,
+            ("pnn_clear_kl", "pnn_clear_kl_sine"),
             lambda value: value >= 0.0,
             "a finite weight >= 0",
         )
@@ -913,13 +931,37 @@ class TrainingSetup:
             off_path = float(self._on_sine_path("pnn_off_path_kl_sine", self.pnn_off_path_kl, path))
         if off_path > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["off_path_kl"] = off_path
+        clear = (
+            self._on_sine_path("pnn_clear_kl_sine", self.pnn_clear_kl, path)
+            if agent == "pnn"
+            else 0
+        )
+        if clear > 0:  # named only when on, so earlier runs keep their hash
+            kwargs["policy_kwargs"]["clear_kl"] = float(clear)
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
             kwargs["policy_kwargs"]["gate_latch_key"] = "latch"
         if agent == "pnn" and self.pnn_reads_avoidance(path):  # named only when on
             kwargs["policy_kwargs"]["reference_prior"] = 0
+            if self.pnn_near_prior_kl_on(path):  # named only when it acts
+                kwargs["policy_kwargs"]["near_reference_prior"] = 1
+                if self.spnn_gate_corridor is not None:
+                    kwargs["policy_kwargs"]["near_reference_corridor"] = float(
+                        self.spnn_gate_corridor
+                    )
         return kwargs
+
+    def pnn_near_prior_kl_on(self, path: str) -> bool:
+        """Whether PNN's KL term on planning path ``path`` pulls toward the avoidance column
+        near obstacles: ``pnn_near_prior_kl`` on that path, where PNN reads the column and its
+        KL term has a clearance (elsewhere the factor does nothing)."""
+        return (
+            self.on_path("pnn_near_prior_kl", path)
+            and self.pnn_reads_avoidance(path)
+            and self.pnn_prior_kl > 0
+            and self.pnn_prior_kl_clearance is not None
+        )
 
     def pnn_reads_avoidance(self, path: str) -> bool:
         """Whether PNN's runs on planning path ``path`` read the avoidance column beside the
@@ -1125,6 +1167,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_init_from_prior",
     "spnn_init_from_prior",
     "pnn_avoidance_column",
+    "pnn_near_prior_kl",
     "spnn_play_no_reversal",
     "learners_play_no_reversal",
 )
@@ -1139,6 +1182,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_gamma_sine",
     "spnn_off_path_kl_sine",
     "pnn_off_path_kl_sine",
+    "pnn_clear_kl_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1191,6 +1235,10 @@ OURS = TrainingSetup(
     spnn_off_path_kl_sine=1.0,
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
+    pnn_avoidance_column="both",
+    pnn_near_prior_kl="both",
+    pnn_clear_kl=1.0,
+    pnn_clear_kl_sine=0.0,
     pnn_n_steps=8,
     pnn_n_steps_sine=1,
     pnn_exploration_epsilon=0.05,
@@ -1242,6 +1290,7 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_init_from_prior": "PNN's new column starts as a copy of its prior",
     "spnn_init_from_prior": "SPNN's new column starts as a copy of its path-following prior",
     "pnn_avoidance_column": "PNN reads the avoidance column too (eq. 13, ungated)",
+    "pnn_near_prior_kl": "PNN's KL term pulls toward the avoidance column near obstacles",
     "spnn_d_th": "SPNN switch distance d_th (m)",
     "spnn_d_th_sine": "SPNN switch distance d_th on the sine path (m)",
     "spnn_gate": "SPNN selector of its priors (eq. 15's hard switch, soft or learned)",
@@ -1259,6 +1308,8 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_off_path_kl_sine": "SPNN: the off-path KL term's weight on the sine path",
     "pnn_off_path_kl": "PNN: its KL term over off-path copies of each minibatch too",
     "pnn_off_path_kl_sine": "PNN: the off-path KL term's weight on the sine path",
+    "pnn_clear_kl": "PNN: its KL term over clear-sonar copies of each minibatch too",
+    "pnn_clear_kl_sine": "PNN: the clear-sonar KL term's weight on the sine path",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",

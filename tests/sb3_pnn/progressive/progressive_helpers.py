@@ -82,3 +82,20 @@ def actor_loss_inputs(seed: int = 0, n: int = 8, n_actions: int = 5):
     q = (th.randn(n, n_actions, generator=gen), th.randn(n, n_actions, generator=gen))
     common = dict(target_q_values=th.zeros(n, 1), actions=th.zeros(n, 1), ent_coef=0.2)
     return logits, other, q, common
+
+
+def two_column_pnn(paths, **kwargs):
+    """A PNN on :class:`ToyRovEnv` reading the path-following and the avoidance checkpoint of the
+    ``priors`` fixture, started as and referred to the path follower (``kwargs`` override)."""
+    from sb3_pnn import ProgressivePolicy
+
+    options = dict(
+        priors=[paths["pf_dsac"], paths["oa_dsac"]],
+        net_arch=[16, 16],
+        start_as_prior=True,
+        reference_prior=0,
+        lateral_scale_init=0.0,
+        prior_kl=1.0,
+    )
+    options.update(kwargs)
+    return toy_model(ProgressivePolicy, options)

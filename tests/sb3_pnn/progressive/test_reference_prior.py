@@ -13,22 +13,11 @@ from __future__ import annotations
 import pytest
 import torch as th
 import torch.nn.functional as F
-from progressive_helpers import near_far_batch, obs_tensor, toy_model
+from progressive_helpers import near_far_batch, obs_tensor, two_column_pnn
 
-from sb3_pnn import DiscreteSAC, ProgressivePolicy
+from sb3_pnn import DiscreteSAC
 
-
-def _pnn(paths, **kwargs):
-    kw = dict(
-        priors=[paths["pf_dsac"], paths["oa_dsac"]],
-        net_arch=[16, 16],
-        start_as_prior=True,
-        reference_prior=0,
-        lateral_scale_init=0.0,
-        prior_kl=1.0,
-    )
-    kw.update(kwargs)
-    return toy_model(ProgressivePolicy, kw)
+_pnn = two_column_pnn
 
 
 def _pf(paths):

@@ -68,7 +68,7 @@ def test_other_specs_hashes_and_revisions_are_refused(tmp_path) -> None:
 
 def test_runs_whose_prior_is_planned_differently_are_not_adopted(tmp_path) -> None:
     """A transfer run's hash names its priors by run id only: with the avoidance column's task
-    changed, the SPNN runs (which read it) must be retrained with it, the others not."""
+    changed, the SPNN and PNN runs (which read it) must be retrained with it, the others not."""
     from rov_envs.sim.tasks import TASKS_REVISION
     from sb3_pnn.reproduce.planning.setups import OURS
 
@@ -83,13 +83,13 @@ def test_runs_whose_prior_is_planned_differently_are_not_adopted(tmp_path) -> No
     )
     adopted, skipped = adopt_runs(tmp_path / "old", new, plan, TASKS_REVISION)
     readers = {s.run_id for s in plan if "prior-oa-s0" in s.deps}
-    assert readers and {"spnn-straight-s0", "spnn-sine-s0"} <= readers
+    assert readers and {"spnn-straight-s0", "spnn-sine-s0", "pnn-straight-s0"} <= readers
     assert skipped["prior-oa-s0"].startswith("spec differs in")
     for run_id in readers:
         why = skipped[run_id]
         assert why.startswith("its prior prior-oa-s0 would not be adopted (spec differs")
     assert set(adopted) == {s.run_id for s in plan} - readers - {"prior-oa-s0"}
-    assert "pnn-straight-s0" in adopted and "prior-pf_straight-s0" in adopted
+    assert "sac_multi-straight-s0" in adopted and "prior-pf_straight-s0" in adopted
     new.close()
 
 

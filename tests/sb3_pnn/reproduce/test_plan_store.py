@@ -37,7 +37,7 @@ def test_priors_per_seed_by_default_and_recorded_episodes_inside_budget() -> Non
     plan = build_plan(StudyConfig(budget_name="full", seeds=2, episodes=200))
     assert sum(s.kind == "prior" for s in plan) == 6
     pnn = next(s for s in plan if s.run_id == "pnn-straight-s1")
-    assert pnn.deps == ("prior-pf_straight-s1",)
+    assert pnn.deps == ("prior-pf_straight-s1", "prior-oa-s1")  # pnn_avoidance_column
     assert pnn.episodes == 200
     assert pnn.record_episodes == (0, 80, 150, 199)  # paper's episodes < 200, then the last
 
@@ -256,16 +256,19 @@ def test_spnn_d_th_sine_gives_the_sine_spnn_its_own_switch_distance() -> None:
 
 def test_spnn_gate_corridor_reaches_both_spnn_runs_only() -> None:
     """The default hands both SPNN policies back at abs(g) / d_L >= 0.9 (the sine one keeps its
-    soft gate); spnn_gate_corridor=null (the paper's gate) names no bound and changes only the
-    SPNN runs."""
+    soft gate), and bounds PNN's near KL reference alike; spnn_gate_corridor=null (the paper's
+    gate) names no bound and changes only the SPNN and PNN runs."""
     _, default = _spnn_gates()
     _, paper_gate = _spnn_gates((("spnn_gate_corridor", None),))
     for run_id, spec in default.items():
         kwargs = spec.sac_kwargs.get("policy_kwargs", {})
         assert kwargs.get("gate_corridor") == (0.9 if spec.agent == "spnn" else None)
-        other = paper_gate[run_id]
-        assert "gate_corridor" not in other.sac_kwargs.get("policy_kwargs", {})
-        assert (spec.config_hash() == other.config_hash()) == (spec.agent != "spnn")
+        bound = kwargs.get("near_reference_corridor")
+        assert bound == (0.9 if spec.agent == "pnn" else None), run_id
+        other = paper_gate[run_id].sac_kwargs.get("policy_kwargs", {})
+        assert "gate_corridor" not in other and "near_reference_corridor" not in other
+        changed = spec.agent in ("spnn", "pnn")
+        assert (spec.config_hash() == paper_gate[run_id].config_hash()) == (not changed)
     assert default["spnn-sine-s0"].sac_kwargs["policy_kwargs"]["gate"] == "soft"
     with pytest.raises(ValueError, match="spnn_gate_corridor=0.9 is not allowed with a learned"):
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("spnn_gate", "learned"),))
@@ -299,7 +302,7 @@ def test_pnn_avoidance_column_adds_the_avoidance_column_to_pnns_runs_on_its_path
     """pnn_avoidance_column=straight: PNN's straight runs read [pf_straight, oa] with the path
     follower as their reference prior; PNN's sine runs and every other run keep their spec and
     hash; a one-agent study of PNN then trains the avoidance column it needs."""
-    _, default = _spnn_gates()
+    _, default = _spnn_gates((("pnn_avoidance_column", "neither"),))
     _, wider = _spnn_gates((("pnn_avoidance_column", "straight"),))
     for run_id, spec in default.items():
         other = wider[run_id]
@@ -321,6 +324,46 @@ def test_pnn_avoidance_column_adds_the_avoidance_column_to_pnns_runs_on_its_path
     assert OURS.with_(pnn_avoidance_column=True).pnn_avoidance_column == "both"
     with pytest.raises(ValueError, match=r"pnn_avoidance_column='left' is not allowed"):
         OURS.with_(pnn_avoidance_column="left")
+
+
+def test_pnn_near_prior_kl_refers_pnns_near_samples_to_the_avoidance_column() -> None:
+    """pnn_near_prior_kl=straight beside pnn_avoidance_column=both: PNN's straight runs name the
+    avoidance column as the reference of their near samples, bounded by SPNN's corridor; the
+    sine runs keep the avoidance column's spec; where PNN does not read the column, or its KL
+    term has no clearance, the factor does nothing."""
+    column = ("pnn_avoidance_column", "both")
+    _, read = _spnn_gates((column, ("pnn_near_prior_kl", "neither")))
+    _, near = _spnn_gates((column, ("pnn_near_prior_kl", "straight")))
+    for run_id, spec in read.items():
+        other = near[run_id]
+        changed = run_id == "pnn-straight-s0"
+        assert (spec.config_hash() != other.config_hash()) == changed, run_id
+        if changed:
+            kwargs = other.sac_kwargs["policy_kwargs"]
+            assert (kwargs["reference_prior"], kwargs["near_reference_prior"]) == (0, 1)
+            assert kwargs["near_reference_corridor"] == OURS.spnn_gate_corridor
+    assert OURS.pnn_near_prior_kl == "both" and OURS.pnn_near_prior_kl_on("sine")
+    for inert in (dict(pnn_avoidance_column="neither"), dict(pnn_prior_kl_clearance=None)):
+        setup = OURS.with_(**inert)
+        for path in ("straight", "sine"):
+            kwargs = setup.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
+            assert "near_reference_prior" not in kwargs, (inert, path)
+
+
+def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:
+    """pnn_clear_kl=1 with the sine refinement at 0 (the default): PNN's straight run names
+    clear_kl and every other run keeps the hash it has without the term; a negative weight is
+    refused by name."""
+    _, default = _spnn_gates((("pnn_clear_kl", 0.0),))
+    _, clear = _spnn_gates((("pnn_clear_kl", 1.0), ("pnn_clear_kl_sine", 0.0)))
+    for run_id, spec in default.items():
+        other = clear[run_id]
+        changed = run_id == "pnn-straight-s0"
+        assert (spec.config_hash() != other.config_hash()) == changed, run_id
+        policy_kwargs = other.sac_kwargs.get("policy_kwargs", {})
+        assert policy_kwargs.get("clear_kl") == (1.0 if changed else None), run_id
+    with pytest.raises(ValueError, match=r"pnn_clear_kl=-1.0 is not allowed: expected a finite"):
+        OURS.with_(pnn_clear_kl=-1.0)
 
 
 @pytest.mark.parametrize(

@@ -46,7 +46,7 @@ def test_each_column_is_trained_k_times_and_the_transfer_runs_read_the_choice() 
     for spec in plan.values():
         assert all(order.index(d) < order.index(spec.run_id) for d in spec.deps)
     assert plan["spnn-sine-s1"].deps == ("prior-pf_sine-best3-s0", "prior-oa-best3-s0")
-    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best3-s0",)
+    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best3-s0", "prior-oa-best3-s0")
     assert plan["sac_single-sine-s0"].deps == ()
     # with a column set per seed, seed s's candidates are seeds 3s, 3s + 1, 3s + 2
     per_seed = _plan(3, seeds=2, prior_per_seed=True)
@@ -70,7 +70,7 @@ def test_the_straight_path_following_column_alone_can_be_the_best_of_two() -> No
         "prior-pf_straight-s3",
     )
     assert plan["spnn-straight-s1"].deps == ("prior-pf_straight-best2-s1", "prior-oa-s1")
-    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best2-s0",)
+    assert plan["pnn-straight-s0"].deps == ("prior-pf_straight-best2-s0", "prior-oa-s0")
     assert plan["sac_multi-straight-s1"].deps == ("prior-pf_straight-best2-s1",)
     reached = {i for i, spec in plan.items() if "straight" in i and spec.kind != "baseline"}
     reached -= {"sac_single-straight-s0", "sac_single-straight-s1"}

@@ -79,7 +79,13 @@ def test_a_run_that_fails_on_ray_is_recorded_and_blocks_its_dependents(
         return run_work(spec, tmp, deps)
 
     store = RunStore(tmp_path)
-    pnn_only = StudyConfig(budget_name="quick", seeds=1, paths=("straight",), agents=("pnn",))
+    pnn_only = StudyConfig(  # the paper's PNN: the path-following column alone
+        budget_name="quick",
+        seeds=1,
+        paths=("straight",),
+        agents=("pnn",),
+        setup_changes=(("pnn_avoidance_column", "neither"),),
+    )
     summary = _study(tmp_path, RayPool(store, broken_prior, local_ray), config=pnn_only)
     assert list(summary.failed) == ["prior-pf_straight-s0"]
     assert summary.blocked == {"pnn-straight-s0": "prior-pf_straight-s0"}

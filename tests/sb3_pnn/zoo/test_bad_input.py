@@ -95,7 +95,8 @@ def test_missing_prior_names_file_and_command(capsys, in_tmp) -> None:
 
 
 def test_missing_explicit_prior(capsys, in_tmp) -> None:
-    line = train_fails(capsys, ["--algo", "pnn", "--env", PLAN_ENV, "--priors", "nowhere/pf.zip"])
+    argv = ["--algo", "pnn", "--env", PLAN_ENV, "--priors", "nowhere/pf.zip", "nowhere/oa.zip"]
+    line = train_fails(capsys, argv)
     assert (
         "missing path-following prior for pnn" in line and "nowhere/pf.zip does not exist" in line
     )

@@ -122,6 +122,8 @@ def test_priors_match_the_task(algo: str, setup: str) -> None:
                 training.spnn_own_weight,
                 training.spnn_gate_of("sine" if sine else "straight"),
             )
+        elif algo == "pnn" and SETUPS[setup].pnn_reads_avoidance("sine" if sine else "straight"):
+            assert [p.env for p in priors[1:]] == ["rov_envs/ObstacleAvoidance-v0"]
         else:
             assert len(priors) == 1
 

@@ -81,16 +81,20 @@ def test_enjoy_refuses_an_unwritable_recording_before_playing(
 @pytest.mark.parametrize(
     ("algo", "env", "prior_env", "needle"),
     [
-        ("pnn", PLAN_ENV, OA_ENV, "observes the sonar"),
+        ("pnn", PLAN_ENV, f"{OA_ENV} {OA_ENV}", "observes the sonar"),
         ("sac_multi", PLAN_ENV, OA_ENV, "observes the sonar"),
-        ("pnn", "rov_envs/PlanningSine-v0", PF_ENV, "whose path is not"),
+        ("pnn", "rov_envs/PlanningSine-v0", f"{PF_ENV} {OA_ENV}", "whose path is not"),
+        ("pnn", "rov_envs/PlanningSine-v0", PF_ENV, "takes 2 (path-following, obstacle-avoidance)"),
     ],
 )
 def test_train_refuses_a_prior_that_cannot_play_its_role(
     algo: str, env: str, prior_env: str, needle: str, prior_logs: Path, capsys, monkeypatch
 ) -> None:
+    """(PNN on the sine path reads the path-following and the avoidance column.)"""
     monkeypatch.chdir(prior_logs)
-    name = prior_env.replace("/", "-")
-    prior = prior_logs / "logs" / "dsac" / f"{name}_1" / f"{name}.zip"
-    line = train_fails(capsys, ["--algo", algo, "--env", env, "--priors", str(prior), "-n", "10"])
+    priors = []
+    for prior in prior_env.split():
+        name = prior.replace("/", "-")
+        priors.append(str(prior_logs / "logs" / "dsac" / f"{name}_1" / f"{name}.zip"))
+    line = train_fails(capsys, ["--algo", algo, "--env", env, "--priors", *priors, "-n", "10"])
     assert needle in line
