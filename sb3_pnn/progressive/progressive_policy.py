@@ -52,6 +52,15 @@ from sb3_pnn.safe_io.policy_registry import register_policy_class
 SONAR_KEY, SONAR_RANGE = "sonar", 25.0
 
 
+def _has_part(
+    observation_space: spaces.Space, key: str, shape: tuple[int, ...] | None = None
+) -> bool:
+    """Whether a Dict observation space has the part ``key`` (of ``shape`` where given)."""
+    if not isinstance(observation_space, spaces.Dict) or key not in observation_space.spaces:
+        return False
+    return shape is None or observation_space.spaces[key].shape == shape
+
+
 def _checked_clearance(clearance: Any, observation_space: spaces.Space) -> float | None:
     """``prior_kl_clearance`` as a float (None stays None); refuses a bad distance or an
     observation without the sonar it reads."""
@@ -61,7 +70,7 @@ def _checked_clearance(clearance: Any, observation_space: spaces.Space) -> float
         raise ValueError(
             f"prior_kl_clearance must be a distance > 0 (m) or None, got {clearance!r}"
         )
-    if not isinstance(observation_space, spaces.Dict) or SONAR_KEY not in observation_space.spaces:
+    if not _has_part(observation_space, SONAR_KEY):
         raise ValueError(
             f"prior_kl_clearance={clearance!r} reads the nearest obstacle from a {SONAR_KEY!r} "
             f"observation key, which this observation space lacks: {observation_space}"
@@ -98,9 +107,7 @@ def _checked_near_reference(
             "tells near samples from far ones"
         )
     corridor = checked_corridor(corridor, "near_reference_corridor")
-    if corridor is not None and (
-        not isinstance(observation_space, spaces.Dict) or PATH_KEY not in observation_space.spaces
-    ):
+    if corridor is not None and not _has_part(observation_space, PATH_KEY):
         raise ValueError(
             f"near_reference_corridor={corridor!r} reads the observation's {PATH_KEY!r} part "
             f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
@@ -454,19 +461,12 @@ class ProgressivePolicy(DiscreteSACPolicy):
         ):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-        if off_path_kl > 0 and (
-            not isinstance(observation_space, spaces.Dict)
-            or PATH_KEY not in observation_space.spaces
-            or observation_space.spaces[PATH_KEY].shape != (2,)
-        ):
+        if off_path_kl > 0 and not _has_part(observation_space, PATH_KEY, (2,)):
             raise ValueError(
                 f"off_path_kl={off_path_kl!r} redraws the observation's {PATH_KEY!r} part "
                 f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
             )
-        if clear_kl > 0 and (
-            not isinstance(observation_space, spaces.Dict)
-            or SONAR_KEY not in observation_space.spaces
-        ):
+        if clear_kl > 0 and not _has_part(observation_space, SONAR_KEY):
             raise ValueError(
                 f"clear_kl={clear_kl!r} clears the observation's {SONAR_KEY!r} part, which this "
                 f"observation space lacks: {observation_space}"
