@@ -401,13 +401,13 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
 def play_of(setup: TrainingSetup, agent: str, path: str) -> dict[str, Any]:
     """How the study evaluates learner ``agent``'s runs on ``path`` (RunSpec.play): SPNN's
     through a switch memory where ``spnn_play_memory`` acts; without immediate turn reversals
-    SPNN's where ``spnn_play_no_reversal`` acts and every learner's where
-    ``learners_play_no_reversal`` does; else as trained (empty)."""
+    SPNN's where ``spnn_play_no_reversal`` acts, PNN's where ``pnn_play_no_reversal`` does and
+    every learner's where ``learners_play_no_reversal`` does; else as trained (empty)."""
     play: dict[str, Any] = {}
     memory = setup.spnn_play_memory_of(path) if agent == "spnn" else None
     if memory is not None:
         play["switch_memory"] = memory
-    own = agent == "spnn" and setup.on_path("spnn_play_no_reversal", path)
+    own = agent in ("spnn", "pnn") and setup.on_path(f"{agent}_play_no_reversal", path)
     if own or setup.on_path("learners_play_no_reversal", path):
         play["no_reversal"] = True
     return play

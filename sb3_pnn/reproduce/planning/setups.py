@@ -110,7 +110,11 @@ Factors:
   obstacle than the clearance, and inside SPNN's corridor bound ``spnn_gate_corridor`` where
   set, PNN's KL term pulls toward the avoidance column instead of leaving them out
   (``ProgressivePolicy(near_reference_prior=1)``): the switch of eq. 15 picks the reference of
-  the regularizer, not the network's input; not in the paper.
+  the regularizer, not the network's input; not in the paper. ``pnn_near_corridor`` (a fraction
+  of d_L in (0, 1]; None: ``spnn_gate_corridor``'s) gives the near reference a corridor bound
+  of its own, ``pnn_near_corridor_sine`` (None: ``pnn_near_corridor``'s) the sine path's.
+  Ours: 0.6 on the sinusoid, whose 15 m corridor the avoidance column's detours overran
+  (docs/ablation section 68), SPNN's 0.9 on the straight path.
 * ``spnn_d_th``: SPNN's switch distance d_th in metres (eq. 15; the paper's 12.5 m was "set
   after a number of experimental trials"): the obstacle-avoidance prior's laterals feed the new
   column while the nearest obstacle is nearer. Only SPNN runs read it; ``spnn_d_th_sine``
@@ -148,6 +152,10 @@ Factors:
   limit. "neither" (the paper): evaluated as trained. Ours: the sinusoid (docs/ablation section
   50: +10.8 and +10.4 points of drawn fields on seeds 0-4 and fresh seeds 5-9; on the straight
   path, whose switch plays with ``spnn_play_memory``, -3.6).
+* ``pnn_play_no_reversal``: the same for PNN's runs. Ours: the sinusoid (docs/ablation section
+  67: +8.0 points of drawn fields over ten seeds, once PNN reads the avoidance column; the
+  time limits of its creeping runs gone). Section 50 had measured +3.6 for the PNN that read
+  the path column alone, short of its rule.
 * ``learners_play_no_reversal``: the same for every learner's runs on the named paths (PNN,
   SAC-Single, SAC-Multi and SPNN), so that Figure 20's learners can be compared played alike.
   "neither" in both set-ups: only SPNN's validation rule passed (docs/ablation section 50).
@@ -423,6 +431,7 @@ class TrainingSetup:
     spnn_switch_memory: float | None = None
     spnn_play_memory: float | None = None
     spnn_play_no_reversal: str = "neither"
+    pnn_play_no_reversal: str = "neither"
     learners_play_no_reversal: str = "neither"
     spnn_sigma: float = PAPER_SIGMA
     spnn_own_weight: float = PAPER_OWN_WEIGHT
@@ -435,6 +444,8 @@ class TrainingSetup:
     pnn_off_path_kl_sine: float | None = None
     pnn_clear_kl: float = 0.0
     pnn_clear_kl_sine: float | None = None
+    pnn_near_corridor: float | None = None
+    pnn_near_corridor_sine: float | None = None
     spnn_n_steps: int = 1
     pnn_n_steps: int = 1
     pnn_n_steps_sine: int | None = None
@@ -580,6 +591,16 @@ class TrainingSetup:
             lambda value: value >= 0.0,
             "a finite weight >= 0",
         )
+        for name, before in (
+            ("pnn_near_corridor", "spnn_gate_corridor"),
+            ("pnn_near_corridor_sine", "pnn_near_corridor"),
+        ):
+            value = getattr(self, name)
+            if value is not None and not (is_finite_number(value) and 0 < value <= 1):
+                raise ValueError(
+                    f"{name}={value!r} is not allowed: expected a fraction of d_L in (0, 1], "
+                    f"or None for {before}'s value"
+                )
         if not (is_finite_number(self.sonar_span) and 0.0 < self.sonar_span <= 360.0):
             raise ValueError(
                 f"sonar_span={self.sonar_span!r} is not allowed: expected an angle in (0, 360] "
@@ -946,11 +967,19 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["reference_prior"] = 0
             if self.pnn_near_prior_kl_on(path):  # named only when it acts
                 kwargs["policy_kwargs"]["near_reference_prior"] = 1
-                if self.spnn_gate_corridor is not None:
-                    kwargs["policy_kwargs"]["near_reference_corridor"] = float(
-                        self.spnn_gate_corridor
-                    )
+                corridor = self.pnn_near_corridor_of(path)
+                if corridor is not None:
+                    kwargs["policy_kwargs"]["near_reference_corridor"] = float(corridor)
         return kwargs
+
+    def pnn_near_corridor_of(self, path: str) -> float | None:
+        """The corridor bound of PNN's near reference on planning path ``path``: beyond this
+        fraction of d_L the path-following column stays the KL term's reference near obstacles
+        (``pnn_near_corridor_sine`` on the sine path when set, else ``pnn_near_corridor``, else
+        SPNN's ``spnn_gate_corridor``)."""
+        own = self.pnn_near_corridor
+        corridor = self.spnn_gate_corridor if own is None else own
+        return self._on_sine_path("pnn_near_corridor_sine", corridor, path)
 
     def pnn_near_prior_kl_on(self, path: str) -> bool:
         """Whether PNN's KL term on planning path ``path`` pulls toward the avoidance column
@@ -1169,6 +1198,7 @@ PER_PATH_FACTORS: tuple[str, ...] = (
     "pnn_avoidance_column",
     "pnn_near_prior_kl",
     "spnn_play_no_reversal",
+    "pnn_play_no_reversal",
     "learners_play_no_reversal",
 )
 
@@ -1183,6 +1213,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "spnn_off_path_kl_sine",
     "pnn_off_path_kl_sine",
     "pnn_clear_kl_sine",
+    "pnn_near_corridor_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1232,6 +1263,7 @@ OURS = TrainingSetup(
     spnn_gate_corridor=0.9,
     spnn_play_memory=10.0,
     spnn_play_no_reversal="sine",
+    pnn_play_no_reversal="sine",
     spnn_off_path_kl_sine=1.0,
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
@@ -1239,6 +1271,7 @@ OURS = TrainingSetup(
     pnn_near_prior_kl="both",
     pnn_clear_kl=1.0,
     pnn_clear_kl_sine=0.0,
+    pnn_near_corridor_sine=0.6,
     pnn_n_steps=8,
     pnn_n_steps_sine=1,
     pnn_exploration_epsilon=0.05,
@@ -1300,6 +1333,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_switch_memory": "SPNN switch's memory H (m): avoidance kept until beyond d_th + H",
     "spnn_play_memory": "SPNN evaluated with a switch memory H (m) (training unchanged)",
     "spnn_play_no_reversal": "SPNN evaluated without immediate turn reversals (training unchanged)",
+    "pnn_play_no_reversal": "PNN evaluated without immediate turn reversals (training unchanged)",
     "learners_play_no_reversal": "every learner evaluated without immediate turn reversals",
     "spnn_sigma": "SPNN weight sigma of the selected prior's input",
     "spnn_own_weight": "SPNN weight tau of the new column's own input",
@@ -1310,6 +1344,8 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_off_path_kl_sine": "PNN: the off-path KL term's weight on the sine path",
     "pnn_clear_kl": "PNN: its KL term over clear-sonar copies of each minibatch too",
     "pnn_clear_kl_sine": "PNN: the clear-sonar KL term's weight on the sine path",
+    "pnn_near_corridor": "PNN's near reference only inside this fraction of d_L",
+    "pnn_near_corridor_sine": "PNN's near reference's corridor bound on the sine path",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",
     "pnn_n_steps": "PNN critics' return length n (n-step targets)",
     "pnn_n_steps_sine": "PNN critics' return length n on the sine path",
@@ -1378,6 +1414,8 @@ def describe_value(name: str, value: Any) -> str:
         return "none (eq. 15's switch)"
     if name in SINE_PATH_FACTORS and value is None:
         return "as on the straight path"
+    if name == "pnn_near_corridor" and value is None:
+        return "SPNN's corridor bound"
     if name == "pnn_exploration_epsilon" and value is None:
         return "as the learners' epsilon"
     if name == "learner_target_entropy_ratio" and value is None:

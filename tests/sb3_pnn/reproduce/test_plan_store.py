@@ -256,18 +256,21 @@ def test_spnn_d_th_sine_gives_the_sine_spnn_its_own_switch_distance() -> None:
 
 def test_spnn_gate_corridor_reaches_both_spnn_runs_only() -> None:
     """The default hands both SPNN policies back at abs(g) / d_L >= 0.9 (the sine one keeps its
-    soft gate), and bounds PNN's near KL reference alike; spnn_gate_corridor=null (the paper's
-    gate) names no bound and changes only the SPNN and PNN runs."""
+    soft gate), and bounds PNN's straight near KL reference alike (the sine one has its own
+    bound, pnn_near_corridor_sine); spnn_gate_corridor=null (the paper's gate) names no bound
+    and changes only the SPNN runs and PNN's straight run."""
     _, default = _spnn_gates()
     _, paper_gate = _spnn_gates((("spnn_gate_corridor", None),))
+    own = {"pnn-sine-s0": 0.6}
     for run_id, spec in default.items():
         kwargs = spec.sac_kwargs.get("policy_kwargs", {})
         assert kwargs.get("gate_corridor") == (0.9 if spec.agent == "spnn" else None)
         bound = kwargs.get("near_reference_corridor")
-        assert bound == (0.9 if spec.agent == "pnn" else None), run_id
+        assert bound == own.get(run_id, 0.9 if spec.agent == "pnn" else None), run_id
         other = paper_gate[run_id].sac_kwargs.get("policy_kwargs", {})
-        assert "gate_corridor" not in other and "near_reference_corridor" not in other
-        changed = spec.agent in ("spnn", "pnn")
+        assert "gate_corridor" not in other
+        assert other.get("near_reference_corridor") == own.get(run_id), run_id
+        changed = spec.agent == "spnn" or run_id == "pnn-straight-s0"
         assert (spec.config_hash() == paper_gate[run_id].config_hash()) == (not changed)
     assert default["spnn-sine-s0"].sac_kwargs["policy_kwargs"]["gate"] == "soft"
     with pytest.raises(ValueError, match="spnn_gate_corridor=0.9 is not allowed with a learned"):
@@ -348,6 +351,31 @@ def test_pnn_near_prior_kl_refers_pnns_near_samples_to_the_avoidance_column() ->
         for path in ("straight", "sine"):
             kwargs = setup.sac_kwargs(agent="pnn", path=path)["policy_kwargs"]
             assert "near_reference_prior" not in kwargs, (inert, path)
+
+
+def test_pnn_near_corridor_bounds_the_near_reference_of_pnns_runs_on_its_path() -> None:
+    """pnn_near_corridor_sine=0.6 (the default) against None (SPNN's bound): PNN's sine runs
+    bound their near reference at 0.6 d_L, the straight runs keep SPNN's bound and every other
+    run its hash; pnn_near_corridor sets both paths; a bound outside (0, 1] is refused by
+    name."""
+    assert OURS.pnn_near_corridor_sine == 0.6 and PAPER.pnn_near_corridor_sine is None
+    _, default = _spnn_gates((("pnn_near_corridor_sine", None),))
+    _, bounded = _spnn_gates()
+    for run_id, spec in default.items():
+        other = bounded[run_id]
+        changed = run_id == "pnn-sine-s0"
+        assert (spec.config_hash() != other.config_hash()) == changed, run_id
+        corridor = other.sac_kwargs.get("policy_kwargs", {}).get("near_reference_corridor")
+        if run_id.startswith("pnn-"):
+            assert corridor == (0.6 if changed else OURS.spnn_gate_corridor), run_id
+    both = OURS.with_(pnn_near_corridor=0.7, pnn_near_corridor_sine=None)
+    assert [both.pnn_near_corridor_of(p) for p in ("straight", "sine")] == [0.7, 0.7]
+    refined = OURS.with_(pnn_near_corridor=0.7)
+    assert [refined.pnn_near_corridor_of(p) for p in ("straight", "sine")] == [0.7, 0.6]
+    assert OURS.with_(spnn_gate_corridor=None).pnn_near_corridor_of("straight") is None
+    for name, value in (("pnn_near_corridor", 0.0), ("pnn_near_corridor_sine", 1.5)):
+        with pytest.raises(ValueError, match=rf"{name}={value!r} is not allowed: expected a"):
+            OURS.with_(**{name: value})
 
 
 def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:

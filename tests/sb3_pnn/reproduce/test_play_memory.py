@@ -19,7 +19,8 @@ from sb3_pnn.reproduce.tools.replay import run_played
 
 def _plan(changes: tuple = ()) -> dict[str, RunSpec]:
     """The tiny plan with ``changes``, its runs played without NoReversal (tested apart)."""
-    unreversed = (("spnn_play_no_reversal", "neither"), *changes)
+    unreversed = (("spnn_play_no_reversal", "neither"), ("pnn_play_no_reversal", "neither"))
+    unreversed = (*unreversed, *changes)
     config = StudyConfig(budget_name="tiny", seeds=1, setup_changes=unreversed)
     return {s.run_id: s for s in build_plan(config)}
 

@@ -1,6 +1,6 @@
-"""spnn_play_no_reversal: the study evaluates SPNN's runs on the named paths through
-NoReversal (after the switch memory where one is named); training, validation checks and every
-other run stay as they were."""
+"""spnn_play_no_reversal / pnn_play_no_reversal: the study evaluates SPNN's / PNN's runs on
+the named paths through NoReversal (after the switch memory where one is named); training,
+validation checks and every other run stay as they were."""
 
 from __future__ import annotations
 
@@ -38,7 +38,8 @@ def test_the_default_plays_spnns_sine_runs_without_reversals_and_trains_them_as_
     assert default["spnn-straight-s0"].play == {"switch_memory": 10.0}  # its own play factor
     both = _plan((("spnn_play_no_reversal", "both"),))
     assert both["spnn-straight-s0"].play == {"switch_memory": 10.0, "no_reversal": True}
-    assert all(not s.play for k, s in both.items() if not k.startswith("spnn-"))
+    others = {k: s.play for k, s in both.items() if not k.startswith("spnn-")}
+    assert others == {k: default[k].play for k in others}  # PNN's sine runs: its own factor
     spec = default["spnn-sine-s0"]
     assert RunSpec.from_dict(spec.to_dict()) == spec
 
@@ -83,11 +84,30 @@ def test_learners_play_no_reversal_plays_every_learner_alike_on_its_paths() -> N
     straight runs, the baselines and the source columns as before; training specs unchanged."""
     default = _plan()
     alike = _plan((("learners_play_no_reversal", "sine"),))
-    learners = {"pnn-sine-s0", "sac_single-sine-s0", "sac_multi-sine-s0"}
+    learners = {"sac_single-sine-s0", "sac_multi-sine-s0"}  # PNN and SPNN already play so
     for run_id, spec in default.items():
         other = alike[run_id]
         assert (spec.config_hash() != other.config_hash()) == (run_id in learners), run_id
         for name in ("sac_kwargs", "env_kwargs", "validation", "eval_tasks", "deps"):
             assert getattr(spec, name) == getattr(other, name), (run_id, name)
-    assert all(alike[r].play == {"no_reversal": True} for r in learners | {"spnn-sine-s0"})
+    played_so = learners | {"spnn-sine-s0", "pnn-sine-s0"}
+    assert all(alike[r].play == {"no_reversal": True} for r in played_so)
     assert PAPER.learners_play_no_reversal == OURS.learners_play_no_reversal == "neither"
+
+
+def test_pnn_play_no_reversal_plays_pnns_sine_runs_so_and_trains_them_as_before() -> None:
+    """PNN's own play factor: on by default on the sinusoid (docs/ablation section 67), off in
+    the paper's set-up; only PNN's runs on the named paths change, and only in ``play``."""
+    assert (OURS.pnn_play_no_reversal, PAPER.pnn_play_no_reversal) == ("sine", "neither")
+    default, off = _plan(), _plan((("pnn_play_no_reversal", "neither"),))
+    for run_id, spec in default.items():
+        other = off[run_id]
+        assert (spec.config_hash() != other.config_hash()) == (run_id == "pnn-sine-s0"), run_id
+        for name in ("sac_kwargs", "env_kwargs", "validation", "eval_tasks", "deps"):
+            assert getattr(spec, name) == getattr(other, name), (run_id, name)
+    assert (default["pnn-sine-s0"].play, off["pnn-sine-s0"].play) == ({"no_reversal": True}, {})
+    both = _plan((("pnn_play_no_reversal", "both"),))
+    assert both["pnn-straight-s0"].play == {"no_reversal": True}
+    assert both["spnn-straight-s0"].play == {"switch_memory": 10.0}  # SPNN's own factors
+    with pytest.raises(ValueError, match=r"pnn_play_no_reversal='curvy' is not allowed"):
+        OURS.with_(pnn_play_no_reversal="curvy")
