@@ -114,6 +114,10 @@ class SelectivePolicy(ProgressivePolicy):
     :param off_path_kl: Weight of the KL term over off-path copies of each minibatch (see
         :class:`ProgressivePolicy`; the copies' sonar reads clear and their latch, if any, 0,
         so the gate selects the path-following prior; 0: off, the paper)
+    :param clear_kl: Weight of the same KL term over copies of each minibatch that keep their
+        path part and read a clear sonar (see :class:`ProgressivePolicy`): the gate selects the
+        path-following prior there, so the new column is held to how that prior follows the
+        path wherever the vehicle is (0: off, the paper)
     """
 
     def __init__(
@@ -150,6 +154,7 @@ class SelectivePolicy(ProgressivePolicy):
         prior_kl: float = DEFAULT_PRIOR_KL,
         action_smoothness: float = 0.0,
         off_path_kl: float = 0.0,
+        clear_kl: float = 0.0,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -216,6 +221,7 @@ class SelectivePolicy(ProgressivePolicy):
             prior_kl,
             action_smoothness=action_smoothness,
             off_path_kl=off_path_kl,
+            clear_kl=clear_kl,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

@@ -184,7 +184,9 @@ Factors:
   gives the sine path a weight of its own (None: ``pnn_off_path_kl``'s). ``pnn_clear_kl``
   (``pnn_clear_kl_sine`` for the sine path, None: ``pnn_clear_kl``'s): the weight of PNN's KL
   term over copies of each minibatch that keep the path part and read a clear sonar, where the
-  path-following column is the reference (not in the paper: 0).
+  path-following column is the reference (not in the paper: 0). ``spnn_clear_kl``
+  (``spnn_clear_kl_sine``, None: ``spnn_clear_kl``'s) does the same for SPNN, whose gate selects
+  the path-following prior on the copies (not in the paper: 0).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -444,6 +446,8 @@ class TrainingSetup:
     pnn_off_path_kl_sine: float | None = None
     pnn_clear_kl: float = 0.0
     pnn_clear_kl_sine: float | None = None
+    spnn_clear_kl: float = 0.0
+    spnn_clear_kl_sine: float | None = None
     pnn_near_corridor: float | None = None
     pnn_near_corridor_sine: float | None = None
     spnn_n_steps: int = 1
@@ -585,12 +589,11 @@ class TrainingSetup:
             lambda value: value >= 0.0,
             "a finite weight >= 0",
         )
-        _check_refined_numbers(
-            self,
+        for names in (
             ("pnn_clear_kl", "pnn_clear_kl_sine"),
-            lambda value: value >= 0.0,
-            "a finite weight >= 0",
-        )
+            ("spnn_clear_kl", "spnn_clear_kl_sine"),
+        ):
+            _check_refined_numbers(self, names, lambda value: value >= 0.0, "a finite weight >= 0")
         for name, before in (
             ("pnn_near_corridor", "spnn_gate_corridor"),
             ("pnn_near_corridor_sine", "pnn_near_corridor"),
@@ -952,11 +955,11 @@ class TrainingSetup:
             off_path = float(self._on_sine_path("pnn_off_path_kl_sine", self.pnn_off_path_kl, path))
         if off_path > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["off_path_kl"] = off_path
-        clear = (
-            self._on_sine_path("pnn_clear_kl_sine", self.pnn_clear_kl, path)
-            if agent == "pnn"
-            else 0
-        )
+        clear = 0.0
+        if agent == "pnn":
+            clear = self._on_sine_path("pnn_clear_kl_sine", self.pnn_clear_kl, path)
+        elif agent == "spnn":
+            clear = self._on_sine_path("spnn_clear_kl_sine", self.spnn_clear_kl, path)
         if clear > 0:  # named only when on, so earlier runs keep their hash
             kwargs["policy_kwargs"]["clear_kl"] = float(clear)
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
@@ -1214,6 +1217,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_off_path_kl_sine",
     "pnn_clear_kl_sine",
     "pnn_near_corridor_sine",
+    "spnn_clear_kl_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1344,6 +1348,8 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_off_path_kl_sine": "PNN: the off-path KL term's weight on the sine path",
     "pnn_clear_kl": "PNN: its KL term over clear-sonar copies of each minibatch too",
     "pnn_clear_kl_sine": "PNN: the clear-sonar KL term's weight on the sine path",
+    "spnn_clear_kl": "SPNN: its KL term over clear-sonar copies of each minibatch too",
+    "spnn_clear_kl_sine": "SPNN: the clear-sonar KL term's weight on the sine path",
     "pnn_near_corridor": "PNN's near reference only inside this fraction of d_L",
     "pnn_near_corridor_sine": "PNN's near reference's corridor bound on the sine path",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",

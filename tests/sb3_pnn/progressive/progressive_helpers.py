@@ -71,6 +71,22 @@ def obs_tensor(policy, obs: dict[str, np.ndarray], keys=None):
     return policy.obs_to_tensor(part)[0]
 
 
+def kl_to_path_checkpoint(policy, obs, path_zip) -> float:
+    """mean KL(pi(.|s) || pi_pf(.|s)) over the tensors ``obs``, the path-following checkpoint
+    ``path_zip`` read from disk and fed its own "path" part: the hand-made value of a KL term
+    toward that prior."""
+    import torch as th
+    import torch.nn.functional as F
+
+    from sb3_pnn import DiscreteSAC
+
+    pf = DiscreteSAC.load(path_zip, device="cpu").policy
+    with th.no_grad():
+        log_pi = F.log_softmax(policy.actor(obs), dim=1)
+        log_pf = F.log_softmax(pf.actor({"path": obs["path"]}), dim=1)
+    return float((log_pi.exp() * (log_pi - log_pf)).sum(dim=1).mean())
+
+
 def actor_loss_inputs(seed: int = 0, n: int = 8, n_actions: int = 5):
     """Random actor logits, a second logits tensor (a reference or the next state's), twin
     Q-values and the other arguments of ``discrete_sac_losses``, for tests of its actor terms."""

@@ -1,10 +1,12 @@
-"""``clear_kl``: a PNN's prior KL term over copies of each minibatch whose sonar reads clear.
+"""``clear_kl``: a PNN's (or an SPNN's) prior KL term over copies of each minibatch whose sonar
+reads clear.
 
 The copies keep every part but the sonar (cleared) and a latch (zeroed); with
 ``prior_kl_clearance`` the reference on them is the path-following prior, also for a PNN whose
 near samples refer to an avoidance column; training with a strong term keeps the policy closer to
 the path follower on clear states; the weight is saved, and an observation without a sonar is
-refused by name.
+refused by name. An SPNN's gate selects its path-following prior on the copies, so the term
+there is the KL to that prior too.
 """
 
 from __future__ import annotations
@@ -14,9 +16,15 @@ import pytest
 import torch as th
 import torch.nn.functional as F
 from gymnasium import spaces
-from progressive_helpers import batch, obs_tensor, two_column_pnn
+from progressive_helpers import (
+    batch,
+    kl_to_path_checkpoint,
+    obs_tensor,
+    toy_model,
+    two_column_pnn,
+)
 
-from sb3_pnn import DiscreteSAC, ProgressivePolicy
+from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.off_path import off_path_copies
 
 
@@ -100,3 +108,24 @@ def test_bad_weights_and_a_missing_sonar_are_refused(priors):
             priors=[priors["pf_dsac"]],
             clear_kl=1.0,
         )
+
+
+def test_an_spnns_term_is_the_kl_to_its_path_prior_and_is_saved(priors, tmp_path):
+    """SelectivePolicy(clear_kl=...): on the cleared copies the hard gate hands the laterals to
+    the path-following prior, and the term equals mean KL(pi || pi_pf) there; the weight travels
+    with the saved model."""
+    kwargs = dict(priors=[priors["pf_dsac"], priors["oa_dsac"]], net_arch=[16, 16])
+    model = toy_model(SelectivePolicy, {**kwargs, "start_as_prior": False, "clear_kl": 1.5})
+    policy = model.policy
+    obs = _near_states(model.observation_space, 32)
+    term = policy.off_path_kl_term(obs_tensor(policy, obs), redraw_path=False)
+    cleared = obs_tensor(policy, dict(obs, sonar=np.ones_like(obs["sonar"])))
+    assert th.equal(policy.gate_weights(cleared), th.tensor([[1.0, 0.0]]).expand(32, 2))
+    assert th.equal(policy.gate_weights(obs_tensor(policy, obs))[:, 1], th.ones(32))
+    expected = kl_to_path_checkpoint(policy, cleared, priors["pf_dsac"])
+    assert term.item() == pytest.approx(expected, rel=1e-5)
+    model.learn(40)
+    model.save(tmp_path / "spnn.zip")
+    assert DiscreteSAC.load(tmp_path / "spnn.zip", device="cpu").policy.clear_kl == 1.5
+    with pytest.raises(ValueError, match=r"clear_kl must be a finite number >= 0"):
+        toy_model(SelectivePolicy, {**kwargs, "clear_kl": -1.0})

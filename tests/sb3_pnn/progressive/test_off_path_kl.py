@@ -12,9 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch as th
-import torch.nn.functional as F
 from gymnasium import spaces
-from progressive_helpers import batch, obs_tensor, toy_model
+from progressive_helpers import batch, kl_to_path_checkpoint, obs_tensor, toy_model
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.off_path import HEADING_BOUND, OFF_PATH_BAND, off_path_copies
@@ -62,12 +61,8 @@ def test_the_term_is_the_kl_to_the_path_following_prior_on_the_copies(priors):
     th.manual_seed(11)
     copies = off_path_copies(obs, "sonar")
     assert th.equal(policy.gate_weights(copies), th.tensor([[1.0, 0.0]]).expand(64, 2))
-    pf = DiscreteSAC.load(priors["pf_dsac"], device="cpu").policy
-    with th.no_grad():
-        log_pi = F.log_softmax(policy.actor(copies), dim=1)
-        log_pf = F.log_softmax(pf.actor({"path": copies["path"]}), dim=1)
-    expected = (log_pi.exp() * (log_pi - log_pf)).sum(dim=1).mean()
-    assert term.item() == pytest.approx(expected.item(), rel=1e-5)
+    expected = kl_to_path_checkpoint(policy, copies, priors["pf_dsac"])
+    assert term.item() == pytest.approx(expected, rel=1e-5)
     assert term.requires_grad
     assert int(policy.actor.lead_counts.sum()) == 0  # made-up states are not counted as leads
 

@@ -394,6 +394,22 @@ def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:
         OURS.with_(pnn_clear_kl=-1.0)
 
 
+def test_spnn_clear_kl_names_the_clear_sonar_term_in_spnns_sine_runs_alone() -> None:
+    """spnn_clear_kl_sine=1 (spnn_clear_kl 0): SPNN's sine run names clear_kl, every other run
+    keeps its hash; bad weights are refused by name."""
+    _, default = _spnn_gates()
+    _, clear = _spnn_gates((("spnn_clear_kl_sine", 1.0),))
+    for run_id, spec in default.items():
+        other = clear[run_id]
+        changed = run_id == "spnn-sine-s0"
+        assert (spec.config_hash() != other.config_hash()) == changed, run_id
+        if run_id.startswith("spnn-"):
+            assert other.sac_kwargs["policy_kwargs"].get("clear_kl") == (1.0 if changed else None)
+    assert (OURS.spnn_clear_kl, PAPER.spnn_clear_kl) == (0.0, 0.0)
+    with pytest.raises(ValueError, match=r"spnn_clear_kl_sine=-2.0 is not allowed: expected a"):
+        OURS.with_(spnn_clear_kl_sine=-2.0)
+
+
 @pytest.mark.parametrize(
     ("factor", "value"),
     [
