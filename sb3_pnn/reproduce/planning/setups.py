@@ -950,18 +950,10 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["gate"] = gate
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
-        off_path = self.spnn_off_path_kl_of(path) if agent == "spnn" else 0.0
-        if agent == "pnn":
-            off_path = float(self._on_sine_path("pnn_off_path_kl_sine", self.pnn_off_path_kl, path))
-        if off_path > 0:  # named only when on, so earlier runs keep their hash
-            kwargs["policy_kwargs"]["off_path_kl"] = off_path
-        clear = 0.0
-        if agent == "pnn":
-            clear = self._on_sine_path("pnn_clear_kl_sine", self.pnn_clear_kl, path)
-        elif agent == "spnn":
-            clear = self._on_sine_path("spnn_clear_kl_sine", self.spnn_clear_kl, path)
-        if clear > 0:  # named only when on, so earlier runs keep their hash
-            kwargs["policy_kwargs"]["clear_kl"] = float(clear)
+        for term in ("off_path_kl", "clear_kl"):  # the KL term over copies of each batch
+            weight = self.copy_kl_of(agent, term, path)
+            if weight > 0:  # named only when on, so earlier runs keep their hash
+                kwargs["policy_kwargs"][term] = weight
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
@@ -1051,10 +1043,15 @@ class TrainingSetup:
         set, else ``pnn_gamma``; None: Tables 2-3's 0.99)."""
         return self._on_sine_path("pnn_gamma_sine", self.pnn_gamma, path)
 
-    def spnn_off_path_kl_of(self, path: str) -> float:
-        """SPNN's weight of the KL term over off-path copies on planning path ``path``
-        (``spnn_off_path_kl_sine`` on the sine path when set, else ``spnn_off_path_kl``)."""
-        return float(self._on_sine_path("spnn_off_path_kl_sine", self.spnn_off_path_kl, path))
+    def copy_kl_of(self, agent: str, term: str, path: str) -> float:
+        """The weight of learner ``agent``'s KL term ``term`` ("off_path_kl" or "clear_kl", over
+        off-path or clear-sonar copies of each minibatch) on planning path ``path``: the factor
+        ``<agent>_<term>``, refined on the sine path by ``<agent>_<term>_sine`` when set; 0 for
+        an agent without such factors (SAC-Single, SAC-Multi)."""
+        if agent not in ("spnn", "pnn"):
+            return 0.0
+        name = f"{agent}_{term}"
+        return float(self._on_sine_path(f"{name}_sine", getattr(self, name), path))
 
     def spnn_gate_of(self, path: str) -> str:
         """The SPNN's gate on planning path ``path`` (``spnn_gate_sine`` on the sine path when
