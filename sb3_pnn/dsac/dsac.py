@@ -410,11 +410,19 @@ class DiscreteSAC(OffPolicyAlgorithm):
         critic_params, target_params = self._polyak_params()
         prior_kl = float(getattr(self.policy, "prior_kl", 0.0))
         off_path_kl = float(getattr(self.policy, "off_path_kl", 0.0))
-        copy_terms = [  # (weight, whether the copies' path part is redrawn): see .off_path
-            (weight, redraw)
-            for weight, redraw in (
-                (off_path_kl, True),
-                (float(getattr(self.policy, "clear_kl", 0.0)), False),
+        policy: Any = self.policy
+        copy_terms = [  # (weight, the term): the prior KL over made-up copies of each batch
+            (weight, term)
+            for weight, term in (  # see sb3_pnn.progressive's off_path and obstacle_copies
+                (off_path_kl, lambda obs: policy.off_path_kl_term(obs, True)),
+                (
+                    float(getattr(policy, "clear_kl", 0.0)),
+                    lambda obs: policy.off_path_kl_term(obs, False),
+                ),
+                (
+                    float(getattr(policy, "obstacle_kl", 0.0)),
+                    lambda obs: policy.obstacle_kl_term(obs),
+                ),
             )
             if weight > 0
         ]
@@ -474,9 +482,9 @@ class DiscreteSAC(OffPolicyAlgorithm):
                 next_logits=step_logits,
                 action_smoothness=smoothness,
             )
-            for weight, redraw in copy_terms:  # the prior KL term over copies of the batch too
-                term = self.policy.off_path_kl_term(replay_data.observations, redraw)  # type: ignore[attr-defined]
-                losses = losses._replace(actor_loss=losses.actor_loss + weight * term)
+            for weight, term in copy_terms:  # the prior KL term over copies of the batch too
+                kl = term(replay_data.observations)
+                losses = losses._replace(actor_loss=losses.actor_loss + weight * kl)
 
             # Optimize the entropy coefficient (alpha, the "temperature")
             if losses.ent_coef_loss is not None and self.ent_coef_optimizer is not None:

@@ -20,6 +20,7 @@ column k that reads them through lateral adapters (:class:`.columns.ProgressiveN
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from typing import Any
@@ -42,6 +43,7 @@ from sb3_pnn.dsac.policies import DiscreteSACPolicy, actions_from_logits
 from sb3_pnn.progressive.columns import FrozenColumn, ProgressiveNet, activation_name
 from sb3_pnn.progressive.gates import DistanceGate, checked_corridor
 from sb3_pnn.progressive.obs_spec import Feed, match_prior_obs, obs_spec_from_space
+from sb3_pnn.progressive.obstacle_copies import obstacle_copies
 from sb3_pnn.progressive.off_path import PATH_KEY, off_path_copies
 from sb3_pnn.progressive.prior_loading import Layers, PriorCheckpoint, PriorSpec, load_prior
 from sb3_pnn.progressive.weight_copy import copy_layers, input_columns
@@ -416,6 +418,14 @@ class ProgressivePolicy(DiscreteSACPolicy):
         reference there is the path-following prior, so a new column that reads an avoidance
         column keeps following the path as its prior does in open water (not in the paper; 0:
         off). Needs a ``sonar`` observation part
+    :param obstacle_kl: Weight of the same KL term over copies of each minibatch whose sonar
+        also reads 1-3 cylinders drawn around the vehicle (:mod:`.obstacle_copies`): where one
+        is nearer than ``prior_kl_clearance`` the reference there is ``near_reference_prior``
+        (the avoidance prior), so the new column keeps to what that prior does among obstacles
+        the training layout never showed (not in the paper; 0: off). Needs a ``sonar``
+        observation part
+    :param obstacle_kl_span: The sonar's span S (rad, centred ahead; rov_envs' ``sonar_span``)
+        that places the drawn cylinders in its sectors
     """
 
     actor: ProgressiveActor  # type: ignore[assignment]
@@ -451,6 +461,8 @@ class ProgressivePolicy(DiscreteSACPolicy):
         near_reference_prior: int | None = None,
         near_reference_corridor: float | None = None,
         clear_kl: float = 0.0,
+        obstacle_kl: float = 0.0,
+        obstacle_kl_span: float = math.pi,
     ):
         activation_name(activation_fn)  # refuse unsupported activations early
         for name, value in (
@@ -458,6 +470,7 @@ class ProgressivePolicy(DiscreteSACPolicy):
             ("action_smoothness", action_smoothness),
             ("off_path_kl", off_path_kl),
             ("clear_kl", clear_kl),
+            ("obstacle_kl", obstacle_kl),
         ):
             if not is_finite_number(value) or value < 0:
                 raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
@@ -466,13 +479,24 @@ class ProgressivePolicy(DiscreteSACPolicy):
                 f"off_path_kl={off_path_kl!r} redraws the observation's {PATH_KEY!r} part "
                 f"[a_c / pi, g / d_L], which this observation space lacks: {observation_space}"
             )
-        if clear_kl > 0 and not _has_part(observation_space, SONAR_KEY):
+        for name, weight, verb in (
+            ("clear_kl", clear_kl, "clears"),
+            ("obstacle_kl", obstacle_kl, "draws obstacles into"),
+        ):
+            if weight > 0 and not _has_part(observation_space, SONAR_KEY):
+                raise ValueError(
+                    f"{name}={weight!r} {verb} the observation's {SONAR_KEY!r} part, which "
+                    f"this observation space lacks: {observation_space}"
+                )
+        if not (is_finite_number(obstacle_kl_span) and 0 < obstacle_kl_span <= 2 * math.pi):
             raise ValueError(
-                f"clear_kl={clear_kl!r} clears the observation's {SONAR_KEY!r} part, which this "
-                f"observation space lacks: {observation_space}"
+                f"obstacle_kl_span={obstacle_kl_span!r} is not allowed: expected the sonar's "
+                "span in (0, 2 pi] (rad)"
             )
         self.off_path_kl = float(off_path_kl)
         self.clear_kl = float(clear_kl)
+        self.obstacle_kl = float(obstacle_kl)
+        self.obstacle_kl_span = float(obstacle_kl_span)
         self.prior_kl = float(prior_kl)
         self.action_smoothness = float(action_smoothness)
         self.prior_kl_clearance = _checked_clearance(prior_kl_clearance, observation_space)
@@ -592,6 +616,9 @@ class ProgressivePolicy(DiscreteSACPolicy):
                 kwargs["near_reference_corridor"] = self.near_reference_corridor
         if self.clear_kl > 0:  # named only when on, as saved models before it
             kwargs["clear_kl"] = self.clear_kl
+        if self.obstacle_kl > 0:  # named only when on, as saved models before it
+            kwargs["obstacle_kl"] = self.obstacle_kl
+            kwargs["obstacle_kl_span"] = self.obstacle_kl_span
         return kwargs
 
     # --- networks -------------------------------------------------------------------------
@@ -741,6 +768,22 @@ class ProgressivePolicy(DiscreteSACPolicy):
         (the term ``clear_kl`` weighs)."""
         sonar_key, zeroed = self._off_path_keys()
         copies = off_path_copies(observations, sonar_key, zeroed, redraw_path=redraw_path)  # type: ignore[arg-type]
+        return self._copies_kl(copies)
+
+    def obstacle_kl_term(self, observations: PyTorchObs) -> th.Tensor:
+        """mean_s' KL(pi(.|s') || pi_0(.|s')) over copies s' of a replayed batch whose sonar
+        also reads drawn obstacles (:mod:`.obstacle_copies`), with gradient to the actor;
+        ``obstacle_kl`` weighs it."""
+        copies = obstacle_copies(
+            observations,  # type: ignore[arg-type]
+            SONAR_KEY,
+            self.obstacle_kl_span,
+            SONAR_RANGE,
+        )
+        return self._copies_kl(copies)
+
+    def _copies_kl(self, copies: dict[str, th.Tensor]) -> th.Tensor:
+        """mean KL(pi || pi_0) over made-up states (the gate's lead counts left alone)."""
         logits, prior_log_probs = self.actor.logits_and_prior_log_probs(copies, count_leads=False)
         log_probs = F.log_softmax(logits, dim=1)
         return (log_probs.exp() * (log_probs - prior_log_probs)).sum(dim=1).mean()

@@ -28,6 +28,7 @@ weight) is returned by :meth:`SelectivePolicy.extra_logs`, which DiscreteSAC log
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from typing import Any
@@ -118,6 +119,10 @@ class SelectivePolicy(ProgressivePolicy):
         path part and read a clear sonar (see :class:`ProgressivePolicy`): the gate selects the
         path-following prior there, so the new column is held to how that prior follows the
         path wherever the vehicle is (0: off, the paper)
+    :param obstacle_kl: Weight of the same KL term over copies of each minibatch whose sonar
+        also reads drawn obstacles (see :class:`ProgressivePolicy`): the gate selects the
+        avoidance prior where one is within d_th (0: off, the paper)
+    :param obstacle_kl_span: The sonar's span (rad) that places the drawn obstacles
     """
 
     def __init__(
@@ -155,6 +160,8 @@ class SelectivePolicy(ProgressivePolicy):
         action_smoothness: float = 0.0,
         off_path_kl: float = 0.0,
         clear_kl: float = 0.0,
+        obstacle_kl: float = 0.0,
+        obstacle_kl_span: float = math.pi,
     ):
         if gate not in GATES:
             raise ValueError(f"gate must be one of {GATES}, got {gate!r}")
@@ -222,6 +229,8 @@ class SelectivePolicy(ProgressivePolicy):
             action_smoothness=action_smoothness,
             off_path_kl=off_path_kl,
             clear_kl=clear_kl,
+            obstacle_kl=obstacle_kl,
+            obstacle_kl_span=obstacle_kl_span,
         )
 
     def _validate_priors(self, specs: list[PriorSpec], action_space: spaces.Discrete) -> None:

@@ -186,7 +186,14 @@ Factors:
   term over copies of each minibatch that keep the path part and read a clear sonar, where the
   path-following column is the reference (not in the paper: 0). ``spnn_clear_kl``
   (``spnn_clear_kl_sine``, None: ``spnn_clear_kl``'s) does the same for SPNN, whose gate selects
-  the path-following prior on the copies (not in the paper: 0).
+  the path-following prior on the copies (not in the paper: 0). ``pnn_obstacle_kl``,
+  ``spnn_obstacle_kl`` (``_sine`` alike): the weight of the KL term over copies of each
+  minibatch whose sonar also reads 1-3 cylinders drawn around the vehicle, of the avoidance
+  task's own sizes (:mod:`sb3_pnn.progressive.obstacle_copies`); where one lies nearer than the
+  clearance, the reference is the avoidance column (PNN's near reference, SPNN's gate), so the
+  new column is held to that column among obstacle patterns its one training layout never
+  shows (not in the paper: 0). The copies are states made up for the regularizer, not episodes:
+  no layout is drawn and no reward is paid on them.
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -448,6 +455,10 @@ class TrainingSetup:
     pnn_clear_kl_sine: float | None = None
     spnn_clear_kl: float = 0.0
     spnn_clear_kl_sine: float | None = None
+    pnn_obstacle_kl: float = 0.0
+    pnn_obstacle_kl_sine: float | None = None
+    spnn_obstacle_kl: float = 0.0
+    spnn_obstacle_kl_sine: float | None = None
     pnn_near_corridor: float | None = None
     pnn_near_corridor_sine: float | None = None
     spnn_n_steps: int = 1
@@ -592,6 +603,8 @@ class TrainingSetup:
         for names in (
             ("pnn_clear_kl", "pnn_clear_kl_sine"),
             ("spnn_clear_kl", "spnn_clear_kl_sine"),
+            ("pnn_obstacle_kl", "pnn_obstacle_kl_sine"),
+            ("spnn_obstacle_kl", "spnn_obstacle_kl_sine"),
         ):
             _check_refined_numbers(self, names, lambda value: value >= 0.0, "a finite weight >= 0")
         for name, before in (
@@ -950,10 +963,12 @@ class TrainingSetup:
             kwargs["policy_kwargs"]["gate"] = gate
             if gate == "soft":
                 kwargs["policy_kwargs"]["temperature"] = float(self.spnn_gate_temperature)
-        for term in ("off_path_kl", "clear_kl"):  # the KL term over copies of each batch
+        for term in ("off_path_kl", "clear_kl", "obstacle_kl"):  # KL over copies of each batch
             weight = self.copy_kl_of(agent, term, path)
             if weight > 0:  # named only when on, so earlier runs keep their hash
                 kwargs["policy_kwargs"][term] = weight
+        if self.copy_kl_of(agent, "obstacle_kl", path) > 0:
+            kwargs["policy_kwargs"]["obstacle_kl_span"] = math.radians(self.sonar_span)
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
@@ -1044,8 +1059,9 @@ class TrainingSetup:
         return self._on_sine_path("pnn_gamma_sine", self.pnn_gamma, path)
 
     def copy_kl_of(self, agent: str, term: str, path: str) -> float:
-        """The weight of learner ``agent``'s KL term ``term`` ("off_path_kl" or "clear_kl", over
-        off-path or clear-sonar copies of each minibatch) on planning path ``path``: the factor
+        """The weight of learner ``agent``'s KL term ``term`` ("off_path_kl", "clear_kl" or
+        "obstacle_kl", over off-path, clear-sonar or drawn-obstacle copies of each minibatch) on
+        planning path ``path``: the factor
         ``<agent>_<term>``, refined on the sine path by ``<agent>_<term>_sine`` when set; 0 for
         an agent without such factors (SAC-Single, SAC-Multi)."""
         if agent not in ("spnn", "pnn"):
@@ -1215,6 +1231,8 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_clear_kl_sine",
     "pnn_near_corridor_sine",
     "spnn_clear_kl_sine",
+    "pnn_obstacle_kl_sine",
+    "spnn_obstacle_kl_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1347,6 +1365,10 @@ FACTOR_LABELS: dict[str, str] = {
     "pnn_clear_kl_sine": "PNN: the clear-sonar KL term's weight on the sine path",
     "spnn_clear_kl": "SPNN: its KL term over clear-sonar copies of each minibatch too",
     "spnn_clear_kl_sine": "SPNN: the clear-sonar KL term's weight on the sine path",
+    "pnn_obstacle_kl": "PNN: its KL term over drawn-obstacle copies of each minibatch too",
+    "pnn_obstacle_kl_sine": "PNN: the drawn-obstacle KL term's weight on the sine path",
+    "spnn_obstacle_kl": "SPNN: its KL term over drawn-obstacle copies of each minibatch too",
+    "spnn_obstacle_kl_sine": "SPNN: the drawn-obstacle KL term's weight on the sine path",
     "pnn_near_corridor": "PNN's near reference only inside this fraction of d_L",
     "pnn_near_corridor_sine": "PNN's near reference's corridor bound on the sine path",
     "spnn_n_steps": "SPNN critics' return length n (n-step targets)",

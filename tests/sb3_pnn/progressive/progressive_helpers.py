@@ -115,3 +115,11 @@ def two_column_pnn(paths, **kwargs):
     )
     options.update(kwargs)
     return toy_model(ProgressivePolicy, options)
+
+
+def near_reference_pnn(paths, **kwargs):
+    """:func:`two_column_pnn` with the near reference: its KL term pulls toward the avoidance
+    column on samples with an obstacle within 12.5 m (``kwargs`` override)."""
+    return two_column_pnn(
+        paths, **{"prior_kl_clearance": 12.5, "near_reference_prior": 1, **kwargs}
+    )

@@ -19,20 +19,13 @@ from gymnasium import spaces
 from progressive_helpers import (
     batch,
     kl_to_path_checkpoint,
+    near_reference_pnn,
     obs_tensor,
     toy_model,
-    two_column_pnn,
 )
 
 from sb3_pnn import DiscreteSAC, ProgressivePolicy, SelectivePolicy
 from sb3_pnn.progressive.off_path import off_path_copies
-
-
-def _pnn(paths, **kwargs):
-    """The two-column PNN with the near reference: the avoidance column within 12.5 m."""
-    return two_column_pnn(
-        paths, **{"prior_kl_clearance": 12.5, "near_reference_prior": 1, **kwargs}
-    )
 
 
 def _near_states(space, n=128, seed=7):
@@ -52,7 +45,7 @@ def test_clear_copies_keep_the_path_and_clear_the_sonar():
 
 
 def test_the_term_is_the_kl_to_the_path_prior_on_the_cleared_states(priors):
-    model = _pnn(priors, clear_kl=1.0)
+    model = near_reference_pnn(priors, clear_kl=1.0)
     policy = model.policy
     obs = _near_states(model.observation_space, 32)
     term = policy.off_path_kl_term(obs_tensor(policy, obs), redraw_path=False)
@@ -70,11 +63,11 @@ def test_a_strong_term_keeps_the_policy_near_the_path_prior_in_open_water(priors
     """The toy task pays for action 2 only; its states read the sonar at random, near and far.
     With a strong clear-sonar term the run ends closer to the path follower on cleared states
     than the same run without it; the frozen columns keep every bit."""
-    space = _pnn(priors).observation_space
+    space = near_reference_pnn(priors).observation_space
     probe = _near_states(space, 256)
     kls = {}
     for weight in (0.0, 10.0):
-        model = _pnn(priors, clear_kl=weight)
+        model = near_reference_pnn(priors, clear_kl=weight)
         frozen = {k: v.clone() for k, v in model.policy.state_dict().items() if "priors" in k}
         model.learn(400)
         with th.no_grad():
@@ -87,27 +80,28 @@ def test_a_strong_term_keeps_the_policy_near_the_path_prior_in_open_water(priors
 
 def test_the_weight_is_saved_and_earlier_models_are_unchanged(priors, tmp_path):
     """(With both copy terms at 0 no copy term is computed: test_off_path_kl.py.)"""
-    model = _pnn(priors, clear_kl=2.0)
+    model = near_reference_pnn(priors, clear_kl=2.0)
     model.learn(40)
     model.save(tmp_path / "pnn.zip")
     assert DiscreteSAC.load(tmp_path / "pnn.zip", device="cpu").policy.clear_kl == 2.0
-    plain = _pnn(priors)
+    plain = near_reference_pnn(priors)
     assert "clear_kl" not in plain.policy._get_constructor_parameters()  # earlier zips alike
 
 
 def test_bad_weights_and_a_missing_sonar_are_refused(priors):
     for bad in (-1.0, float("inf")):
         with pytest.raises(ValueError, match=r"clear_kl must be a finite number >= 0"):
-            _pnn(priors, clear_kl=bad)
+            near_reference_pnn(priors, clear_kl=bad)
     path_only = spaces.Dict({"path": spaces.Box(-1.0, 1.0, (2,), np.float32)})
-    with pytest.raises(ValueError, match=r"clear_kl=1.0 clears the observation's 'sonar' part"):
-        ProgressivePolicy(
-            path_only,
-            spaces.Discrete(5),
-            lambda _: 3e-4,
-            priors=[priors["pf_dsac"]],
-            clear_kl=1.0,
-        )
+    for term, verb in (("clear_kl", "clears"), ("obstacle_kl", "draws obstacles into")):
+        with pytest.raises(ValueError, match=rf"{term}=1.0 {verb} the observation's 'sonar'"):
+            ProgressivePolicy(
+                path_only,
+                spaces.Discrete(5),
+                lambda _: 3e-4,
+                priors=[priors["pf_dsac"]],
+                **{term: 1.0},
+            )
 
 
 def test_an_spnns_term_is_the_kl_to_its_path_prior_and_is_saved(priors, tmp_path):

@@ -15,18 +15,17 @@ import numpy as np
 import pytest
 import torch as th
 import torch.nn.functional as F
-from progressive_helpers import NEAR_DISTANCES, batch, near_far_batch, obs_tensor, two_column_pnn
+from progressive_helpers import (
+    NEAR_DISTANCES,
+    batch,
+    near_far_batch,
+    near_reference_pnn,
+    obs_tensor,
+)
 
 from sb3_pnn import DiscreteSAC
 
 NEAR = NEAR_DISTANCES <= 12.5  # far, near, far, near, near
-
-
-def _pnn(paths, **kwargs):
-    """The two-column PNN with the near reference: the avoidance column within 12.5 m."""
-    return two_column_pnn(
-        paths, **{"prior_kl_clearance": 12.5, "near_reference_prior": 1, **kwargs}
-    )
 
 
 def _own_log_probs(paths, obs):
@@ -40,7 +39,7 @@ def _own_log_probs(paths, obs):
 
 
 def test_the_reference_is_the_avoidance_column_near_and_the_path_column_beyond(priors):
-    model = _pnn(priors)
+    model = near_reference_pnn(priors)
     policy = model.policy
     obs = near_far_batch(model.observation_space)
     obs["path"][:, 1] = 0.1  # well inside the corridor
@@ -52,13 +51,13 @@ def test_the_reference_is_the_avoidance_column_near_and_the_path_column_beyond(p
     assert not th.allclose(log_pf[near], log_oa[near], atol=1e-3)  # the two priors differ
     assert policy.actor.prior_kl_weights(obs_tensor(policy, obs)) is None  # every sample counts
     # without it the near samples are left out of the term, as before
-    plain = _pnn(priors, near_reference_prior=None).policy
+    plain = near_reference_pnn(priors, near_reference_prior=None).policy
     weights = plain.actor.prior_kl_weights(obs_tensor(plain, obs))
     assert th.equal(weights, th.as_tensor(~NEAR, dtype=th.float32))
 
 
 def test_the_corridor_bound_hands_far_off_samples_back_to_the_path_column(priors):
-    model = _pnn(priors, near_reference_corridor=0.5)
+    model = near_reference_pnn(priors, near_reference_corridor=0.5)
     policy = model.policy
     obs = near_far_batch(model.observation_space)
     obs["path"][:, 1] = np.array([0.1, 0.1, 0.1, 0.7, -0.6], dtype=np.float32)
@@ -73,13 +72,13 @@ def test_a_strong_term_keeps_the_policy_near_the_avoidance_column_near_obstacles
     """The toy task pays for action 2 only. Trained with a strong KL term, the run whose near
     samples are referred to the avoidance column ends closer to that column's policy on near
     states than the run that leaves them out; the frozen columns keep every bit."""
-    space = _pnn(priors).observation_space
+    space = near_reference_pnn(priors).observation_space
     obs = batch(space, 256, seed=7)
     obs["sonar"] = np.minimum(obs["sonar"], 0.3).astype(np.float32)  # every state within 7.5 m
     _, log_oa = _own_log_probs(priors, obs)
     kls = {}
     for near_prior in (None, 1):
-        model = _pnn(priors, near_reference_prior=near_prior, prior_kl=10.0)
+        model = near_reference_pnn(priors, near_reference_prior=near_prior, prior_kl=10.0)
         frozen = {k: v.clone() for k, v in model.policy.state_dict().items() if "priors" in k}
         model.learn(400)
         with th.no_grad():
@@ -91,7 +90,7 @@ def test_a_strong_term_keeps_the_policy_near_the_avoidance_column_near_obstacles
 
 
 def test_the_choice_is_saved_and_earlier_models_are_unchanged(priors, tmp_path):
-    model = _pnn(priors, near_reference_corridor=0.9)
+    model = near_reference_pnn(priors, near_reference_corridor=0.9)
     model.learn(40)
     model.save(tmp_path / "pnn.zip")
     loaded = DiscreteSAC.load(tmp_path / "pnn.zip", device="cpu").policy
@@ -101,7 +100,9 @@ def test_the_choice_is_saved_and_earlier_models_are_unchanged(priors, tmp_path):
         a = loaded.actor.logits_and_prior_log_probs(obs)
         b = model.policy.actor.logits_and_prior_log_probs(obs)
     assert all(th.equal(x, y) for x, y in zip(a, b, strict=True))
-    plain = _pnn(priors, near_reference_prior=None).policy._get_constructor_parameters()
+    plain = near_reference_pnn(
+        priors, near_reference_prior=None
+    ).policy._get_constructor_parameters()
     assert "near_reference_prior" not in plain and "near_reference_corridor" not in plain
 
 
@@ -121,4 +122,4 @@ def test_the_choice_is_saved_and_earlier_models_are_unchanged(priors, tmp_path):
 )
 def test_bad_combinations_are_refused_by_name(priors, kwargs, message):
     with pytest.raises(ValueError, match=message):
-        _pnn(priors, **kwargs)
+        near_reference_pnn(priors, **kwargs)
