@@ -156,7 +156,7 @@ def main(argv: list[str] | None = None) -> int:
         print(
             "mean abs(g) change: "
             + ", ".join(
-                f"{task} {100 * (arm[task]['g'] / base[task]['g'] - 1):+.0f} %" for task in tasks
+                f"{task} {100 * (arm[task]['g'] / base[task]['g'] - 1):+.1f} %" for task in tasks
             )
         )
     return 0

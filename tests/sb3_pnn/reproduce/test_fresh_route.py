@@ -38,7 +38,7 @@ def test_runs_are_replayed_on_fresh_seeds_beside_a_second_study(tmp_path, capsys
     assert f"100 %, {alone.mean_abs_cross_track:.2f} m" in row
     change = 100 * (alone.mean_abs_cross_track / among.mean_abs_cross_track - 1)
     assert out.splitlines()[-1] == (
-        f"mean abs(g) change: original {change:+.0f} %, path_following +0 %"
+        f"mean abs(g) change: original {change:+.1f} %, path_following +0.0 %"
     )
 
 
