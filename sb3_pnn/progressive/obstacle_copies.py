@@ -78,10 +78,9 @@ def drawn_sonar(
     around a vehicle: radius in :data:`RADIUS_RANGE`, surface distance uniform in
     [:data:`NEAREST_SURFACE`, ``max_range``], relative bearing uniform in the span. A circle
     not drawn (fewer than three) lies beyond the range."""
-    low, high = OBSTACLES_PER_COPY
-    most = high
+    low, most = OBSTACLES_PER_COPY
     draws = th.rand(n, most, 3, generator=generator, dtype=th.float64)
-    counts = th.randint(low, high + 1, (n, 1), generator=generator)
+    counts = th.randint(low, most + 1, (n, 1), generator=generator)
     present = th.arange(most).view(1, -1) < counts
     radius = RADIUS_RANGE[0] + (RADIUS_RANGE[1] - RADIUS_RANGE[0]) * draws[..., 0]
     surface = NEAREST_SURFACE + (max_range - NEAREST_SURFACE) * draws[..., 1]

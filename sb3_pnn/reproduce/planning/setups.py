@@ -967,8 +967,8 @@ class TrainingSetup:
             weight = self.copy_kl_of(agent, term, path)
             if weight > 0:  # named only when on, so earlier runs keep their hash
                 kwargs["policy_kwargs"][term] = weight
-        if self.copy_kl_of(agent, "obstacle_kl", path) > 0:
-            kwargs["policy_kwargs"]["obstacle_kl_span"] = math.radians(self.sonar_span)
+                if term == "obstacle_kl":  # the sonar span that places the drawn obstacles
+                    kwargs["policy_kwargs"]["obstacle_kl_span"] = math.radians(self.sonar_span)
         if agent == "spnn" and self.spnn_gate_corridor is not None:  # named only when set
             kwargs["policy_kwargs"]["gate_corridor"] = float(self.spnn_gate_corridor)
         if agent == "spnn" and self.spnn_latch_of(path) is not None:  # named only when on
