@@ -395,20 +395,22 @@ def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:
 
 
 def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_runs() -> None:
-    """pnn_obstacle_kl_sine=1: PNN's sine run names obstacle_kl and the sonar's span in
-    radians, every other run keeps its hash; spnn_obstacle_kl=0.5 does so in SPNN's runs on
-    both paths, with the span of sonar_span; bad weights are refused by name."""
-    _, default = _spnn_gates()
+    """Against the term off everywhere: the default (pnn_obstacle_kl_sine=0.5) and
+    pnn_obstacle_kl_sine=1 name obstacle_kl and the sonar's span in radians in PNN's sine run
+    alone, every other run keeps its hash; spnn_obstacle_kl=0.5 does so in SPNN's runs on both
+    paths, with the span of sonar_span; bad weights are refused by name."""
+    _, off = _spnn_gates((("pnn_obstacle_kl_sine", 0.0),))
     for changes, changed_runs, weight in (
+        ((), {"pnn-sine-s0"}, 0.5),
         ((("pnn_obstacle_kl_sine", 1.0),), {"pnn-sine-s0"}, 1.0),
         (
-            (("spnn_obstacle_kl", 0.5), ("sonar_span", 120.0)),
+            (("pnn_obstacle_kl_sine", 0.0), ("spnn_obstacle_kl", 0.5), ("sonar_span", 120.0)),
             {"spnn-sine-s0", "spnn-straight-s0"},
             0.5,
         ),
     ):
         _, drawn = _spnn_gates(changes)
-        for run_id, spec in default.items():
+        for run_id, spec in off.items():
             other = drawn[run_id]
             changed = run_id in changed_runs
             if dict(changes).get("sonar_span") is None:  # a span changes every sonar run
@@ -417,7 +419,8 @@ def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_ru
             assert policy_kwargs.get("obstacle_kl") == (weight if changed else None), run_id
             span = math.radians(dict(changes).get("sonar_span", 180.0))
             assert policy_kwargs.get("obstacle_kl_span") == (span if changed else None), run_id
-    assert (OURS.pnn_obstacle_kl, PAPER.pnn_obstacle_kl, OURS.pnn_obstacle_kl_sine) == (0, 0, None)
+    assert (OURS.pnn_obstacle_kl, OURS.pnn_obstacle_kl_sine) == (0, 0.5)
+    assert (PAPER.pnn_obstacle_kl, PAPER.pnn_obstacle_kl_sine) == (0, None)
     with pytest.raises(ValueError, match=r"pnn_obstacle_kl_sine=-1.0 is not allowed: expected a"):
         OURS.with_(pnn_obstacle_kl_sine=-1.0)
 
