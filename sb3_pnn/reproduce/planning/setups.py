@@ -194,7 +194,10 @@ Factors:
   new column is held to that column among obstacle patterns its one training layout never
   shows (not in the paper: 0). The copies are states made up for the regularizer, not episodes:
   no layout is drawn and no reward is paid on them. Ours: 0.5 on PNN's sine runs (docs/ablation
-  sections 79-80: drawn fields +2.9 points over fifteen seeds, routes within 10 %).
+  sections 79-80: drawn fields +2.9 points over fifteen seeds, routes within 10 %), and on
+  SPNN's sine runs 0.5 beside ``spnn_clear_kl_sine=1`` (sections 81-82: the clear-sonar term
+  brings SPNN's sine routes closer, the drawn-obstacle term pays back its cost among drawn
+  obstacles).
 * ``spnn_n_steps``, ``pnn_n_steps``: the length n of the critics' returns, y = sum_{k<n}
   gamma^k r_{t+k} + gamma^n V(s_{t+n}) (``n_steps`` of ``DiscreteSAC``; the paper's SAC, and
   Christodoulou's, bootstrap after one step: 1). Only SPNN / PNN runs read them.
@@ -1285,6 +1288,8 @@ OURS = TrainingSetup(
     spnn_play_no_reversal="sine",
     pnn_play_no_reversal="sine",
     spnn_off_path_kl_sine=1.0,
+    spnn_clear_kl_sine=1.0,
+    spnn_obstacle_kl_sine=0.5,
     pnn_prior_kl=1.0,
     pnn_prior_kl_clearance=PAPER_D_TH,
     pnn_avoidance_column="both",

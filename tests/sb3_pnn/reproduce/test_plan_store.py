@@ -382,8 +382,9 @@ def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:
     """pnn_clear_kl=1 with the sine refinement at 0 (the default): PNN's straight run names
     clear_kl and every other run keeps the hash it has without the term; a negative weight is
     refused by name."""
-    _, default = _spnn_gates((("pnn_clear_kl", 0.0),))
-    _, clear = _spnn_gates((("pnn_clear_kl", 1.0), ("pnn_clear_kl_sine", 0.0)))
+    spnn_off = ("spnn_clear_kl_sine", 0.0)  # SPNN's own term (on its sine runs by default) off
+    _, default = _spnn_gates((("pnn_clear_kl", 0.0), spnn_off))
+    _, clear = _spnn_gates((("pnn_clear_kl", 1.0), ("pnn_clear_kl_sine", 0.0), spnn_off))
     for run_id, spec in default.items():
         other = clear[run_id]
         changed = run_id == "pnn-straight-s0"
@@ -395,19 +396,24 @@ def test_pnn_clear_kl_names_the_clear_sonar_term_in_pnns_runs_alone() -> None:
 
 
 def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_runs() -> None:
-    """Against the term off everywhere: the default (pnn_obstacle_kl_sine=0.5) and
-    pnn_obstacle_kl_sine=1 name obstacle_kl and the sonar's span in radians in PNN's sine run
-    alone, every other run keeps its hash; spnn_obstacle_kl=0.5 does so in SPNN's runs on both
-    paths, with the span of sonar_span; bad weights are refused by name."""
-    _, off = _spnn_gates((("pnn_obstacle_kl_sine", 0.0),))
+    """Against the term off everywhere: the default (0.5 on PNN's and SPNN's sine runs) names
+    obstacle_kl and the sonar's span in radians in those two runs alone, every other run keeps
+    its hash; pnn_obstacle_kl_sine=1 does so in PNN's sine run, spnn_obstacle_kl=0.5 in SPNN's
+    runs on both paths, and the span follows sonar_span; bad weights are refused by name."""
+    _, off = _spnn_gates((("pnn_obstacle_kl_sine", 0.0), ("spnn_obstacle_kl_sine", 0.0)))
     for changes, changed_runs, weight in (
-        ((), {"pnn-sine-s0"}, 0.5),
-        ((("pnn_obstacle_kl_sine", 1.0),), {"pnn-sine-s0"}, 1.0),
+        ((), {"pnn-sine-s0", "spnn-sine-s0"}, 0.5),
+        ((("pnn_obstacle_kl_sine", 1.0), ("spnn_obstacle_kl_sine", 0.0)), {"pnn-sine-s0"}, 1.0),
         (
-            (("pnn_obstacle_kl_sine", 0.0), ("spnn_obstacle_kl", 0.5), ("sonar_span", 120.0)),
+            (
+                ("pnn_obstacle_kl_sine", 0.0),
+                ("spnn_obstacle_kl", 0.5),
+                ("spnn_obstacle_kl_sine", None),
+            ),
             {"spnn-sine-s0", "spnn-straight-s0"},
             0.5,
         ),
+        ((("spnn_obstacle_kl_sine", 0.0), ("sonar_span", 120.0)), {"pnn-sine-s0"}, 0.5),
     ):
         _, drawn = _spnn_gates(changes)
         for run_id, spec in off.items():
@@ -420,6 +426,7 @@ def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_ru
             span = math.radians(dict(changes).get("sonar_span", 180.0))
             assert policy_kwargs.get("obstacle_kl_span") == (span if changed else None), run_id
     assert (OURS.pnn_obstacle_kl, OURS.pnn_obstacle_kl_sine) == (0, 0.5)
+    assert (OURS.spnn_obstacle_kl, OURS.spnn_obstacle_kl_sine) == (0, 0.5)
     assert (PAPER.pnn_obstacle_kl, PAPER.pnn_obstacle_kl_sine) == (0, None)
     with pytest.raises(ValueError, match=r"pnn_obstacle_kl_sine=-1.0 is not allowed: expected a"):
         OURS.with_(pnn_obstacle_kl_sine=-1.0)
@@ -428,15 +435,15 @@ def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_ru
 def test_spnn_clear_kl_names_the_clear_sonar_term_in_spnns_sine_runs_alone() -> None:
     """spnn_clear_kl_sine=1 (spnn_clear_kl 0): SPNN's sine run names clear_kl, every other run
     keeps its hash; bad weights are refused by name."""
-    _, default = _spnn_gates()
-    _, clear = _spnn_gates((("spnn_clear_kl_sine", 1.0),))
-    for run_id, spec in default.items():
+    _, off = _spnn_gates((("spnn_clear_kl_sine", 0.0),))
+    _, clear = _spnn_gates()  # the default: 1 on the sine path
+    for run_id, spec in off.items():
         other = clear[run_id]
         changed = run_id == "spnn-sine-s0"
         assert (spec.config_hash() != other.config_hash()) == changed, run_id
         if run_id.startswith("spnn-"):
             assert other.sac_kwargs["policy_kwargs"].get("clear_kl") == (1.0 if changed else None)
-    assert (OURS.spnn_clear_kl, PAPER.spnn_clear_kl) == (0.0, 0.0)
+    assert (OURS.spnn_clear_kl, OURS.spnn_clear_kl_sine, PAPER.spnn_clear_kl) == (0.0, 1.0, 0.0)
     with pytest.raises(ValueError, match=r"spnn_clear_kl_sine=-2.0 is not allowed: expected a"):
         OURS.with_(spnn_clear_kl_sine=-2.0)
 
