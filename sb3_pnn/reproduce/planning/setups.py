@@ -186,7 +186,8 @@ Factors:
   term over copies of each minibatch that keep the path part and read a clear sonar, where the
   path-following column is the reference (not in the paper: 0). ``spnn_clear_kl``
   (``spnn_clear_kl_sine``, None: ``spnn_clear_kl``'s) does the same for SPNN, whose gate selects
-  the path-following prior on the copies (not in the paper: 0). ``pnn_obstacle_kl``,
+  the path-following prior on the copies (not in the paper: 0; ours: 1 on SPNN's sine runs,
+  beside ``spnn_obstacle_kl_sine=0.5``, sections 81-82). ``pnn_obstacle_kl``,
   ``spnn_obstacle_kl`` (``_sine`` alike): the weight of the KL term over copies of each
   minibatch whose sonar also reads 1-3 cylinders drawn around the vehicle, of the avoidance
   task's own sizes (:mod:`sb3_pnn.progressive.obstacle_copies`); where one lies nearer than the

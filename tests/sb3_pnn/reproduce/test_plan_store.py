@@ -433,8 +433,8 @@ def test_obstacle_kl_names_the_drawn_obstacle_term_and_the_span_in_the_chosen_ru
 
 
 def test_spnn_clear_kl_names_the_clear_sonar_term_in_spnns_sine_runs_alone() -> None:
-    """spnn_clear_kl_sine=1 (spnn_clear_kl 0): SPNN's sine run names clear_kl, every other run
-    keeps its hash; bad weights are refused by name."""
+    """The default spnn_clear_kl_sine=1 (spnn_clear_kl 0) against 0: SPNN's sine run names
+    clear_kl, every other run keeps its hash; bad weights are refused by name."""
     _, off = _spnn_gates((("spnn_clear_kl_sine", 0.0),))
     _, clear = _spnn_gates()  # the default: 1 on the sine path
     for run_id, spec in off.items():
