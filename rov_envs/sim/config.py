@@ -125,6 +125,11 @@ class EnvConfig:
     * ``progress_weighted``: pay r_c of eq. 18/19 (when positive) in proportion to the step's
       progress along the path, as a fraction of 1 m/s (default True; not in the paper, see
       :mod:`rov_envs.sim.rewards`).
+    * ``progress_along``: the direction along which ``progress_weighted`` measures the step's
+      advance: ``"path"`` (default, the path's tangent) or ``"course"`` (the LOS course, the
+      direction from which a_c is measured: the return to the path is then paid in full; not
+      in the paper, see :mod:`rov_envs.sim.rewards`). The obstacle-avoidance task's progress
+      reward does not read it.
     * ``heading_reference``: ``"path"`` (a_c from the LOS course, eq. 16) or ``"goal"`` (a_c
       from the bearing to the target point), for the "path" part and eq. 21's heading rule;
       default: the task's (``"goal"`` for ObstacleAvoidance, ``"path"`` for the others).
@@ -186,6 +191,7 @@ class EnvConfig:
     motion_obs: bool = True
     control_period: float = CONTROL_PERIOD
     progress_weighted: bool = True
+    progress_along: str = "path"
     heading_reference: str | None = None
     los_lookahead: float = DEFAULT_LOOKAHEAD
     path_obs: bool | None = None
@@ -444,6 +450,18 @@ def _check_interface(task: TaskSpec, args: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+#: ``progress_along`` values: the path's tangent, the LOS course.
+PROGRESS_DIRECTIONS = ("path", "course")
+
+
+def _choice(args: dict[str, Any], name: str, allowed: tuple[str, ...]) -> str:
+    """Argument ``name`` (its default when absent), one of the strings ``allowed``."""
+    value = args.get(name, DEFAULTS[name])
+    if not isinstance(value, str) or value not in allowed:
+        raise _bad(name, value, f"one of {list(allowed)}")
+    return value
+
+
 def _non_negative(args: dict[str, Any], name: str) -> float:
     """Argument ``name`` (its default when absent) as a finite float >= 0."""
     value = _finite_float(name, args.get(name, DEFAULTS[name]), "a finite float >= 0")
@@ -459,6 +477,7 @@ def _check_reward(args: dict[str, Any]) -> dict[str, Any]:
         "progress_weighted": _boolean(
             "progress_weighted", args.get("progress_weighted", DEFAULTS["progress_weighted"])
         ),
+        "progress_along": _choice(args, "progress_along", PROGRESS_DIRECTIONS),
     }
 
 

@@ -61,7 +61,13 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_GOALX], c[K.C_GOALY] = config.target
     c[K.C_SONAR] = 1.0 if config.has_sonar else 0.0
     c[K.C_MOTION] = 1.0 if config.motion_obs else 0.0
-    c[K.C_PROGRESS_W] = 1.0 if config.progress_weighted else 0.0
+    c[K.C_PROGRESS_W] = (
+        0.0
+        if not config.progress_weighted
+        else K.PROGRESS_COURSE
+        if config.progress_along == "course"
+        else K.PROGRESS_PATH
+    )
     c[K.C_HEADING_GOAL] = 1.0 if config.heading_reference == "goal" else 0.0
     c[K.C_GOAL_DIST] = 0.0 if config.goal_distance is None else config.goal_distance
     c[K.C_RULE_GOAL] = 1.0 if config.heading_rule == "goal" else 0.0

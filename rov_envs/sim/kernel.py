@@ -96,13 +96,18 @@ C_CURRENT_X = 24  # world-frame water velocity (m/s)
 C_CURRENT_Y = 25
 C_VEHICLE = 26  # vehicle code (rov_envs.physics.params.VEHICLES index): the compiled preset
 C_MOTION = 27  # 1.0 when the observation has a "motion" part
-C_PROGRESS_W = 28  # 1.0: r_c (eq. 18/19) paid in proportion to progress along the path
+C_PROGRESS_W = 28  # 0 / PROGRESS_PATH / PROGRESS_COURSE: how r_c (eq. 18/19) is weighted
 C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the goal, not the LOS course
 C_GOAL_DIST = 30  # the goal: 0 = the target point; D > 0 = the path point D m further along x
 C_RULE_GOAL = 31  # 1.0: eq. 21's |a_c| >= pi/2 rule reads the deviation from the goal's bearing
 C_OBSTACLE_W = 32  # weight of eq. 20's r_v (1.0: the paper's)
 C_ETD = 33  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
+
+#: ``C_PROGRESS_W`` codes: r_c paid in proportion to the advance along the path's tangent, or
+#: along the LOS course (the direction a_c is measured from).
+PROGRESS_PATH = 1.0
+PROGRESS_COURSE = 2.0
 
 # ---- per-vehicle results and counters ``out`` (float64, shape (O_SIZE, N): one row per field,
 # so that each info array is one contiguous row) ----
@@ -384,7 +389,11 @@ def finish_step(
         if cfg[C_PROGRESS_W] != 0.0 and r_c > 0.0:
             dx = out[O_X, i] - x_prev
             dy = out[O_Y, i] - y_prev
-            r_c *= progress_fraction(cfg, out[O_PROG, i], dx, dy)
+            if cfg[C_PROGRESS_W] == PROGRESS_COURSE:
+                course = lanes[lane_index(i) + ROW_PSI * LANES] - a_c
+                r_c *= course_fraction(cfg, course, dx, dy)
+            else:
+                r_c *= progress_fraction(cfg, out[O_PROG, i], dx, dy)
     out[O_PREV_GOAL, i] = dist_goal
     r_v = cfg[C_OBSTACLE_W] * reward_obstacle(d)
     a_rule = out[O_AGOAL, i] if cfg[C_RULE_GOAL] != 0.0 else a_c
@@ -429,6 +438,16 @@ def progress_fraction(cfg, x_path, dx, dy):
         tx = 1.0 / norm
         ty = ty / norm
     p = (dx * tx + dy * ty) / (cfg[C_UREF] * cfg[C_DT])
+    return min(1.0, max(0.0, p))
+
+
+@njit(cache=True, inline="always")
+def course_fraction(cfg, course, dx, dy):
+    """The step's displacement along the direction ``course`` (rad; the LOS course, heading
+    minus a_c), as a fraction of ``U_REF * dt`` clipped to [0, 1] (``progress_along="course"``;
+    not in the paper): pointing at the LOS course is paid in full, so the way back to the path
+    pays as much as following it, while a stopped vehicle is still paid nothing."""
+    p = (dx * math.cos(course) + dy * math.sin(course)) / (cfg[C_UREF] * cfg[C_DT])
     return min(1.0, max(0.0, p))
 
 

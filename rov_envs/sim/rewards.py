@@ -18,6 +18,10 @@ The reward of a step is ``r = r_c + r_v + r_terminal`` (eq. 17 plus eq. 21):
   step near the path whether the vehicle advances or not; on the planning tasks, where passing an
   obstacle costs eq. 20 penalties, agents then learned to stop short of the obstacles and wait
   for the time limit (DiscreteSAC on PlanningStraight).
+  With ``progress_along="course"`` (not in the paper; default ``"path"``) the advance is
+  measured along the LOS course (heading minus a_c) instead: along the tangent a vehicle running
+  parallel to the path 10 m off is paid about as much as one turning back (0.31 against 0.30 on
+  the straight path), along the course the way back is paid in full.
 * ``r_v`` (eq. 20): -2 when ``5 < d <= 8``, -4 when ``2 < d <= 5``, else 0, where ``d`` is the
   noise-free distance from the vehicle's centre to the nearest obstacle SURFACE (centre distance
   minus radius): the paper's obstacles are cylinders and its collision test ``d <= 2`` only makes

@@ -62,6 +62,14 @@ Factors:
   (``progress_weighted=True``; not in the paper). Literally, eq. 18 pays about +1 per step near
   the path whether the vehicle advances or not, so with gamma = 0.99 staying put in front of an
   obstacle is worth more than passing it (measured: agents loiter to the time limit).
+  ``progress_along``: the direction of that progress, ``"path"`` (the path's tangent, ours) or
+  ``"course"`` (the LOS course, from which a_c is measured). Along the tangent, a vehicle
+  running parallel to the path 6-10 m off is paid as much as one turning back along the LOS
+  course, so a policy can hold that offset; along the course the way back is paid in full
+  (docs/ablation section 84). Every eq. 18/19 task reads it (the source columns' and the
+  learners'); the obstacle-avoidance task's progress reward does not.
+  ``planning_progress_along`` (None: ``progress_along``'s) sets it for the learners' planning
+  tasks alone, the source columns keeping ``progress_along``'s.
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
   ``pnn_net_arch``: those of PNN's new column alone (empty: ``net_arch``'s); its frozen prior
   keeps its own, and eq. 13's lateral adapters map the prior's widths to the new column's.
@@ -418,6 +426,8 @@ class TrainingSetup:
     motion_obs: bool = False
     success_reward: float = 0.0
     progress_weighted: bool = False
+    progress_along: str = "path"
+    planning_progress_along: str | None = None
     net_arch: tuple[int, ...] = (255, 255)
     pnn_net_arch: tuple[int, ...] = ()
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
@@ -779,6 +789,18 @@ class TrainingSetup:
             raise ValueError(
                 f"heading_rule={self.heading_rule!r} is not allowed: expected 'path' or 'goal'"
             )
+        for name, along in (
+            ("progress_along", self.progress_along),
+            ("planning_progress_along", self.planning_progress_along),
+        ):
+            if along not in ("path", "course") and not (
+                name.startswith("planning") and along is None
+            ):
+                raise ValueError(
+                    f"{name}={along!r} is not allowed: expected 'path' (the path's tangent) or "
+                    "'course' (the LOS course)"
+                    + (", or None (progress_along's)" if name.startswith("planning") else "")
+                )
         self._check_env_kwargs()
 
     def _check_env_kwargs(self) -> None:
@@ -804,6 +826,8 @@ class TrainingSetup:
         }
         if not self.goal_obs:  # every task observes "path" (and its sonar): the paper's state
             kwargs.update(goal_obs=False, path_obs=True)
+        if self.progress_along != "path":  # named only off the tangent, so runs keep their hash
+            kwargs["progress_along"] = self.progress_along
         if self.heading_rule != "goal":  # eq. 21 as written: a_c of the path (the LOS course)
             kwargs["heading_rule"] = self.heading_rule
         from rov_envs.sim.config import SONAR_SECTORS, SONAR_SPAN
@@ -821,13 +845,17 @@ class TrainingSetup:
         evaluation alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only
         prior being a path follower that reads the path part (the part is there for SPNN's
         avoidance column); SPNN's ``obstacle_latch`` where ``spnn_switch_memory`` acts; every
-        learner's ``planning_obstacle_penalty`` when it is not the paper's."""
+        learner's ``planning_obstacle_penalty`` when it is not the paper's, and its
+        ``planning_progress_along`` when it differs from the source columns'."""
         kwargs: dict[str, Any] = {}
         latch = self.spnn_latch_of(path) if agent == "spnn" else None
         if latch is not None:  # named only when on, so earlier runs keep their hash
             kwargs["obstacle_latch"] = list(latch)
         if self.planning_obstacle_penalty != 1.0:  # named only off the paper's weight (hashes)
             kwargs["obstacle_penalty"] = float(self.planning_obstacle_penalty)
+        along = self.planning_progress_along
+        if along is not None and along != self.progress_along:  # named only when it differs
+            kwargs["progress_along"] = along
         if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
             kwargs["goal_obs"] = False
         if agent == "spnn" and self.oa_offset_obs:
@@ -1334,6 +1362,8 @@ FACTOR_LABELS: dict[str, str] = {
     "motion_obs": "v, r observed",
     "success_reward": "success reward",
     "progress_weighted": "r_c weighted by progress",
+    "progress_along": "progress of the weighted r_c measured along",
+    "planning_progress_along": "learners' progress of the weighted r_c measured along",
     "net_arch": "hidden layers",
     "pnn_net_arch": "hidden layers of PNN's new column",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
@@ -1462,6 +1492,10 @@ def describe_value(name: str, value: Any) -> str:
         return "the target point" if value is None else f"{value:g} m ahead"
     if name == "heading_rule":
         return {"path": "the path's a_c (LOS)", "goal": "the goal's bearing"}.get(value, value)
+    if name in ("progress_along", "planning_progress_along"):
+        if value is None:
+            return "as the source columns'"
+        return {"path": "the path's tangent", "course": "the LOS course"}.get(value, value)
     if name == "pnn_net_arch" and not value:
         return "as the hidden layers"
     if name in ("net_arch", "pnn_net_arch"):
@@ -1479,6 +1513,7 @@ def describe_value(name: str, value: Any) -> str:
 NAMED_REFINEMENTS: dict[str, str] = {
     "spnn_gate_sine": "soft (a gate's name, or null)",
     "prior_keep_best_by_pf_straight": "discounted (a ranking, or null)",
+    "planning_progress_along": "course (path or course, or null)",
 }
 #: Factors that refine another with an integer (None: the refined factor's), and an example.
 COUNTED_REFINEMENTS: dict[str, str] = {

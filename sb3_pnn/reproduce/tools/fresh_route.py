@@ -63,6 +63,34 @@ def folders(study: Path, agent: str, path: str, seeds: list[int] | None) -> list
     return run_folders(study, agent, path, seeds)
 
 
+def add_run_arguments(parser: argparse.ArgumentParser) -> None:
+    """The study folder, ``--agent`` (a learner, a PID baseline or :data:`PF_COLUMN`),
+    ``--path`` and ``--seeds`` (default: every seed the study holds)."""
+    parser.add_argument("study", type=Path)
+    parser.add_argument(
+        "--agent",
+        default="spnn",
+        help=f"a learner, a PID baseline or {PF_COLUMN} (the path's path-following column)",
+    )
+    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
+    parser.add_argument("--seeds", type=int, nargs="*", default=None)
+
+
+def chosen_runs(
+    parser: argparse.ArgumentParser, args: argparse.Namespace
+) -> list[tuple[int, Path]]:
+    """:func:`folders` of the arguments of :func:`add_run_arguments`; a study without such a
+    run stops the command with a usage error."""
+    runs = folders(args.study, args.agent, args.path, args.seeds)
+    if not runs or not runs[0][1].is_dir():
+        parser.error(
+            f"{args.study / 'runs'} holds no run of --agent {args.agent!r} on the {args.path} "
+            f"path: expected a study folder and a learner, {PF_COLUMN} or one of "
+            f"{list(BASELINE_NAMES)}"
+        )
+    return runs
+
+
 def route(
     parser: argparse.ArgumentParser,
     run: Path,
@@ -114,26 +142,13 @@ def means(measures: list[dict[str, dict]]) -> dict[str, dict]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("study", type=Path)
-    parser.add_argument(
-        "--agent",
-        default="spnn",
-        help=f"a learner, a PID baseline or {PF_COLUMN} (the path's path-following column)",
-    )
-    parser.add_argument("--path", choices=["straight", "sine"], default="straight")
-    parser.add_argument("--seeds", type=int, nargs="*", default=None)
+    add_run_arguments(parser)
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
     parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
     add_no_reversal_option(parser)
     args = parser.parse_args(argv)
     th.set_num_threads(1)
-    runs = folders(args.study, args.agent, args.path, args.seeds)
-    if not runs or not runs[0][1].is_dir():
-        parser.error(
-            f"{args.study / 'runs'} holds no run of --agent {args.agent!r} on the {args.path} "
-            f"path: expected a study folder and a learner, {PF_COLUMN} or one of "
-            f"{list(BASELINE_NAMES)}"
-        )
+    runs = chosen_runs(parser, args)
     tasks = tasks_of(args.agent)
     studies = [args.study] if args.against is None else [args.against, args.study]
     header = ["seed"]
