@@ -70,6 +70,10 @@ Factors:
   learners'); the obstacle-avoidance task's progress reward does not.
   ``planning_progress_along`` (None: ``progress_along``'s) sets it for the learners' planning
   tasks alone, the source columns keeping ``progress_along``'s.
+  ``pf_progress_weighted`` (None: ``progress_weighted``'s): the path-following source columns'
+  own choice, off giving them eq. 18/19 as written (beside the success reward), which pays
+  pointing along the LOS course atan(g / Delta) / pi more than running parallel to the path
+  (docs/ablation section 86). The learners keep ``progress_weighted``.
 * ``net_arch``: hidden layers of every actor and critic column (Table 2: [255, 255]).
   ``pnn_net_arch``: those of PNN's new column alone (empty: ``net_arch``'s); its frozen prior
   keeps its own, and eq. 13's lateral adapters map the prior's widths to the new column's.
@@ -428,6 +432,7 @@ class TrainingSetup:
     progress_weighted: bool = False
     progress_along: str = "path"
     planning_progress_along: str | None = None
+    pf_progress_weighted: bool | None = None
     net_arch: tuple[int, ...] = (255, 255)
     pnn_net_arch: tuple[int, ...] = ()
     target_entropy_ratio: float = DEFAULT_TARGET_ENTROPY_RATIO
@@ -864,11 +869,20 @@ class TrainingSetup:
 
     def source_env_kwargs(self, env_id: str) -> dict[str, Any]:
         """What a source column's task adds to :meth:`env_kwargs` (training and evaluation
-        alike): the obstacle-avoidance column's offset from its route (``oa_offset_obs``)."""
+        alike): the obstacle-avoidance column's offset from its route (``oa_offset_obs``), the
+        path-following columns' ``pf_progress_weighted`` where it differs."""
         from rov_envs.sim.tasks import task_of_env
 
-        if self.oa_offset_obs and task_of_env(env_id).name == "ObstacleAvoidance":
+        task = task_of_env(env_id).name
+        if self.oa_offset_obs and task == "ObstacleAvoidance":
             return {"goal_offset": True}
+        weighted = self.pf_progress_weighted
+        if (
+            weighted is not None
+            and weighted != self.progress_weighted
+            and task.startswith("PathFollowing")
+        ):
+            return {"progress_weighted": bool(weighted)}  # named only when it differs (hashes)
         return {}
 
     def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
@@ -1364,6 +1378,7 @@ FACTOR_LABELS: dict[str, str] = {
     "progress_weighted": "r_c weighted by progress",
     "progress_along": "progress of the weighted r_c measured along",
     "planning_progress_along": "learners' progress of the weighted r_c measured along",
+    "pf_progress_weighted": "path-following columns' r_c weighted by progress",
     "net_arch": "hidden layers",
     "pnn_net_arch": "hidden layers of PNN's new column",
     "target_entropy_ratio": "target entropy / ln(number of actions)",
@@ -1492,6 +1507,8 @@ def describe_value(name: str, value: Any) -> str:
         return "the target point" if value is None else f"{value:g} m ahead"
     if name == "heading_rule":
         return {"path": "the path's a_c (LOS)", "goal": "the goal's bearing"}.get(value, value)
+    if name == "pf_progress_weighted" and value is None:
+        return "as the learners'"
     if name in ("progress_along", "planning_progress_along"):
         if value is None:
             return "as the source columns'"
@@ -1514,6 +1531,10 @@ NAMED_REFINEMENTS: dict[str, str] = {
     "spnn_gate_sine": "soft (a gate's name, or null)",
     "prior_keep_best_by_pf_straight": "discounted (a ranking, or null)",
     "planning_progress_along": "course (path or course, or null)",
+}
+#: Factors that refine another with on / off (None: the refined factor's), and an example.
+SWITCHED_REFINEMENTS: dict[str, str] = {
+    "pf_progress_weighted": "off (on / off, or null)",
 }
 #: Factors that refine another with an integer (None: the refined factor's), and an example.
 COUNTED_REFINEMENTS: dict[str, str] = {
@@ -1561,6 +1582,11 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
             ok = isinstance(value, int) and not isinstance(value, bool)
         elif name in NAMED_REFINEMENTS:  # a name, or null for the value it refines
             ok = value is None or isinstance(value, str)
+        elif name in SWITCHED_REFINEMENTS:  # on / off, or null for the value it refines
+            value = (
+                {"on": True, "off": False}.get(value, value) if isinstance(value, str) else value
+            )
+            ok = value is None or isinstance(value, bool)
         elif name in COUNTED_REFINEMENTS:  # an integer, or null for the value it refines
             ok = value is None or (isinstance(value, int) and not isinstance(value, bool))
         elif default is None:  # a number, or null for "as the factor it refines"
@@ -1578,6 +1604,8 @@ def parse_setup_changes(items: Sequence[str]) -> dict[str, Any]:
                 example = NAMED_REFINEMENTS[name]
             if name in COUNTED_REFINEMENTS:
                 example = COUNTED_REFINEMENTS[name]
+            if name in SWITCHED_REFINEMENTS:
+                example = SWITCHED_REFINEMENTS[name]
             if name == "pnn_net_arch":
                 example = "[255, 255] (hidden widths, or [] for net_arch's)"
             raise ValueError(

@@ -48,3 +48,25 @@ def test_progress_along_reaches_every_task_and_the_planning_factor_can_put_it_ba
 def test_a_bad_direction_is_refused_with_its_name(name) -> None:
     with pytest.raises(ValueError, match=f"{name}='los' is not allowed: expected 'path'"):
         OURS.with_(**{name: "los"})
+
+
+def test_pf_progress_weighted_reaches_the_path_following_columns_alone() -> None:
+    """Off: the path-following columns train and are evaluated on eq. 18/19 as written; every
+    other run keeps its hash (the learners' and the avoidance column's reward is unchanged)."""
+    default, unweighted = _plan(), _plan("pf_progress_weighted=off")
+    for run_id, run in unweighted.items():
+        column = run_id.startswith("prior-pf_")
+        kwargs = [task[2] for task in run.eval_tasks] + ([run.env_kwargs] if run.env_kwargs else [])
+        assert {k.get("progress_weighted") for k in kwargs} == ({False} if column else {True})
+        assert (run.config_hash() != default[run_id].config_hash()) == column
+    same = _plan("pf_progress_weighted=on")  # as progress_weighted: named nowhere
+    assert {r: s.config_hash() for r, s in same.items()} == {
+        r: s.config_hash() for r, s in default.items()
+    }
+
+
+@pytest.mark.parametrize("text", ["3", "maybe"])
+def test_pf_progress_weighted_takes_on_off_or_null(text) -> None:
+    with pytest.raises(ValueError, match="pf_progress_weighted=off \\(on / off, or null\\)"):
+        parse_setup_changes([f"pf_progress_weighted={text}"])
+    assert parse_setup_changes(["pf_progress_weighted=null"]) == {"pf_progress_weighted": None}
