@@ -355,6 +355,7 @@ from typing import Any
 
 from rov_envs.physics.guidance import DEFAULT_LOOKAHEAD, LOOKAHEAD_RANGE
 from rov_envs.physics.params import VEHICLES
+from rov_envs.sim.config import PROGRESS_DIRECTIONS
 from rov_envs.sim.symmetry import LEFT_RIGHT_MIRROR
 from sb3_pnn.common.callbacks import RANKINGS, VALIDATION_EPISODES, VALIDATION_EVERY
 from sb3_pnn.common.checks import is_finite_number
@@ -798,7 +799,7 @@ class TrainingSetup:
             ("progress_along", self.progress_along),
             ("planning_progress_along", self.planning_progress_along),
         ):
-            if along not in ("path", "course") and not (
+            if along not in PROGRESS_DIRECTIONS and not (
                 name.startswith("planning") and along is None
             ):
                 raise ValueError(
