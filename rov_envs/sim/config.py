@@ -115,6 +115,11 @@ class EnvConfig:
       addition to eq. 21, see :mod:`rov_envs.sim.rewards`; 0 gives the paper's reward).
     * ``obstacle_penalty``: weight of eq. 20's r_v, the charge for passing within 8 m / 5 m of
       an obstacle's surface (default 1, the paper's; 0 leaves only eq. 21's collision).
+    * ``arrival_gate``: metres in [2, 100]: an episode that reaches the end of the path farther
+      than this from the target point fails (end reason ``"missed_target"``, eq. 21's -200)
+      instead of succeeding. The paper's vehicle must "avoid the obstacle and return to the
+      set path to complete the task" (section 4.2.1). Default None: the end of the path
+      reached anywhere inside the corridor is a success (within 2 m of the target also is).
     * ``vehicle``: the BlueROV2 parameter set, ``"uuv_simulator"`` (default, the paper's Gazebo
       model) or ``"wu2018"`` (Wu 2018), see :mod:`rov_envs.physics.params`.
     * ``motion_obs``: add the ``"motion"`` part (body-frame sway v in m/s and yaw rate r in
@@ -187,6 +192,7 @@ class EnvConfig:
     render_mode: str | None = None
     success_reward: float = 200.0
     obstacle_penalty: float = 1.0
+    arrival_gate: float | None = None
     vehicle: str = DEFAULT_VEHICLE
     motion_obs: bool = True
     control_period: float = CONTROL_PERIOD
@@ -478,7 +484,15 @@ def _check_reward(args: dict[str, Any]) -> dict[str, Any]:
             "progress_weighted", args.get("progress_weighted", DEFAULTS["progress_weighted"])
         ),
         "progress_along": _choice(args, "progress_along", PROGRESS_DIRECTIONS),
+        "arrival_gate": _arrival_gate(args.get("arrival_gate", DEFAULTS["arrival_gate"])),
     }
+
+
+def _arrival_gate(value: Any) -> float | None:
+    """``arrival_gate``: None, or metres in [TARGET_RADIUS, 100]."""
+    if value is None:
+        return None
+    return _in_range("arrival_gate", value, TARGET_RADIUS, 100.0, "m from the target point")
 
 
 def make_config(task_name: str, **kwargs: Any) -> EnvConfig:

@@ -74,6 +74,7 @@ def cfg_array(config: EnvConfig) -> np.ndarray:
     c[K.C_TARGET_R] = TARGET_RADIUS
     c[K.C_SUCCESS_R] = config.success_reward
     c[K.C_OBSTACLE_W] = config.obstacle_penalty
+    c[K.C_ARRIVAL_GATE] = 0.0 if config.arrival_gate is None else config.arrival_gate
     c[K.C_UREF] = U_REF
     c[K.C_LAYOUT] = layout_code(config)
     c[K.C_LAYOUT_N] = obstacle_capacity(config)

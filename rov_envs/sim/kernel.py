@@ -57,6 +57,7 @@ from rov_envs.sim.layouts import draw_layout
 from rov_envs.sim.random_stream import gauss
 from rov_envs.sim.rewards import (
     END_HEADING,
+    END_MISSED,
     END_NONE,
     END_SUCCESS,
     END_TIME_LIMIT,
@@ -101,7 +102,8 @@ C_HEADING_GOAL = 29  # 1.0: a_c is measured from the bearing to the goal, not th
 C_GOAL_DIST = 30  # the goal: 0 = the target point; D > 0 = the path point D m further along x
 C_RULE_GOAL = 31  # 1.0: eq. 21's |a_c| >= pi/2 rule reads the deviation from the goal's bearing
 C_OBSTACLE_W = 32  # weight of eq. 20's r_v (1.0: the paper's)
-C_ETD = 33  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
+C_ARRIVAL_GATE = 33  # > 0: the path's end counts as arrival only this close to the target (m)
+C_ETD = 34  # ETD_SIZE: integrator.vehicle_coefficients(vehicle, dt, substeps), flattened
 C_SIZE = C_ETD + ETD_SIZE
 
 #: ``C_PROGRESS_W`` codes: r_c paid in proportion to the advance along the path's tangent, or
@@ -398,7 +400,13 @@ def finish_step(
     r_v = cfg[C_OBSTACLE_W] * reward_obstacle(d)
     a_rule = out[O_AGOAL, i] if cfg[C_RULE_GOAL] != 0.0 else a_c
     code = failure_code(a_rule, g, d, d_L)
-    arrived = out[O_PROG, i] >= cfg[C_LENGTH] or dist_goal <= cfg[C_TARGET_R]
+    at_end = out[O_PROG, i] >= cfg[C_LENGTH]
+    gate = cfg[C_ARRIVAL_GATE]
+    arrived = dist_goal <= cfg[C_TARGET_R] or (at_end and (gate <= 0.0 or dist_goal <= gate))
+    if at_end and not arrived and (code == END_NONE or code == END_HEADING):
+        # the end of the path passed too far from the target point: the task ("return to the
+        # set path to complete the task", section 4.2.1) is not done, a failure as eq. 21's
+        code = END_MISSED
     if code == END_HEADING and arrived:
         # the step that reaches the end is a success, even where a vehicle passing beside the
         # target sees the target's bearing swing past 90 deg (a collision or leaving the

@@ -52,7 +52,8 @@ END_HEADING = 2  # |a_c| >= pi/2
 END_COLLISION = 3  # d <= 2
 END_SUCCESS = 4  # the target point was reached
 END_TIME_LIMIT = 5  # truncated
-END_REASONS = ("none", "off_path", "heading", "collision", "success", "time_limit")
+END_MISSED = 6  # the end of the path reached farther from the target than ``arrival_gate``
+END_REASONS = ("none", "off_path", "heading", "collision", "success", "time_limit", "missed_target")
 
 COLLISION_DISTANCE = 2.0
 FAILURE_REWARD = -200.0

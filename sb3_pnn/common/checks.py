@@ -72,3 +72,23 @@ def positive_int(name: str) -> Any:
         return value
 
     return parse
+
+
+def float_in(name: str, low: float, high: float, unit: str) -> Any:
+    """An argparse ``type``: a finite float in (``low``, ``high``] when ``low`` is 0, else in
+    [``low``, ``high``]; the error names the option ``name`` and the range."""
+    allowed = f"({low:g}, {high:g}]" if low == 0 else f"[{low:g}, {high:g}]"
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        inside = low < value <= high if low == 0 else low <= value <= high
+        if not inside:  # NaN is never inside
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a number in {allowed} ({unit}), got {text!r}"
+            )
+        return value
+
+    return parse

@@ -355,7 +355,9 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                     env_id=PLANNING_ENVS[path],
                     seed=0,
                     episodes=0,
-                    eval_tasks=with_env_kwargs(EVAL_TASKS[path], setup.env_kwargs()),
+                    eval_tasks=with_env_kwargs(
+                        EVAL_TASKS[path], {**setup.env_kwargs(), **setup.ending_env_kwargs()}
+                    ),
                     eval_episodes=budget.eval_episodes,
                     trace_episodes=budget.trace_episodes,
                 )

@@ -342,6 +342,15 @@ Factors:
   obstacle's surface, per step) in the learners' planning tasks, training and evaluation (1: the
   paper's; 0: only eq. 21's collision charges for closeness). The source columns' tasks keep
   the paper's. The term pays for detours that keep 8 m from every obstacle.
+* ``planning_arrival_gate``: metres (0: none, the default): the learners' planning tasks, in
+  training and evaluation, and the baselines' evaluation, count the end of the path as arrival
+  only within this distance of the target point (rov_envs' ``arrival_gate``); farther off it
+  is a failure, ``missed_target``. The paper's vehicle must "avoid the obstacle and return to
+  the set path to complete the task" (section 4.2.1); without the gate, passing the path's end
+  anywhere inside the 30 m corridor counts as success. ``pf_arrival_gate`` is the same gate
+  for the path-following source columns' tasks (training and evaluation): their episodes start
+  metres off the path (``pf_start_spread``), and the gate pays the way back, which eq. 18
+  weighted by progress along the path barely does (docs/ablation sections 84-89).
 """
 
 from __future__ import annotations
@@ -509,6 +518,8 @@ class TrainingSetup:
     prior_retries: int = 0
     planning_layout: str = "fixed"
     planning_obstacle_penalty: float = 1.0
+    planning_arrival_gate: float = 0.0
+    pf_arrival_gate: float = 0.0
     sonar_span: float = 180.0
     sonar_sectors: int = 9
     los_lookahead: float = DEFAULT_LOOKAHEAD
@@ -786,6 +797,17 @@ class TrainingSetup:
                 f"planning_obstacle_penalty={penalty!r} is not allowed: expected a finite number "
                 ">= 0 (1: eq. 20 as the paper weights it)"
             )
+        for name in ("planning_arrival_gate", "pf_arrival_gate"):
+            gate = getattr(self, name)
+            if (
+                isinstance(gate, bool)
+                or not is_finite_number(gate)
+                or not (gate == 0 or 2 <= gate <= 100)
+            ):
+                raise ValueError(
+                    f"{name}={gate!r} is not allowed: expected 0 (none) or metres in [2, 100] "
+                    "from the target point"
+                )
         if self.planning_layout not in ("fixed", "scatter"):
             raise ValueError(
                 f"planning_layout={self.planning_layout!r} is not allowed: expected 'fixed' "
@@ -851,14 +873,16 @@ class TrainingSetup:
         evaluation alike): PNN without the "goal" part when ``pnn_goal_obs`` is off, its only
         prior being a path follower that reads the path part (the part is there for SPNN's
         avoidance column); SPNN's ``obstacle_latch`` where ``spnn_switch_memory`` acts; every
-        learner's ``planning_obstacle_penalty`` when it is not the paper's, and its
-        ``planning_progress_along`` when it differs from the source columns'."""
+        learner's ``planning_obstacle_penalty`` when it is not the paper's, its
+        ``planning_progress_along`` when it differs from the source columns', and
+        :meth:`ending_env_kwargs`."""
         kwargs: dict[str, Any] = {}
         latch = self.spnn_latch_of(path) if agent == "spnn" else None
         if latch is not None:  # named only when on, so earlier runs keep their hash
             kwargs["obstacle_latch"] = list(latch)
         if self.planning_obstacle_penalty != 1.0:  # named only off the paper's weight (hashes)
             kwargs["obstacle_penalty"] = float(self.planning_obstacle_penalty)
+        kwargs.update(self.ending_env_kwargs())
         along = self.planning_progress_along
         if along is not None and along != self.progress_along:  # named only when it differs
             kwargs["progress_along"] = along
@@ -868,23 +892,31 @@ class TrainingSetup:
             kwargs["goal_offset"] = True
         return kwargs
 
+    def ending_env_kwargs(self) -> dict[str, Any]:
+        """How the planning tasks end, for the learners and the baselines alike: the
+        ``planning_arrival_gate`` when there is one (named only then, so runs keep their hash)."""
+        gate = self.planning_arrival_gate
+        return {"arrival_gate": float(gate)} if gate else {}
+
     def source_env_kwargs(self, env_id: str) -> dict[str, Any]:
         """What a source column's task adds to :meth:`env_kwargs` (training and evaluation
         alike): the obstacle-avoidance column's offset from its route (``oa_offset_obs``), the
-        path-following columns' ``pf_progress_weighted`` where it differs."""
+        path-following columns' ``pf_progress_weighted`` where it differs and their
+        ``pf_arrival_gate``."""
         from rov_envs.sim.tasks import task_of_env
 
         task = task_of_env(env_id).name
         if self.oa_offset_obs and task == "ObstacleAvoidance":
             return {"goal_offset": True}
+        if not task.startswith("PathFollowing"):
+            return {}
+        kwargs: dict[str, Any] = {}
         weighted = self.pf_progress_weighted
-        if (
-            weighted is not None
-            and weighted != self.progress_weighted
-            and task.startswith("PathFollowing")
-        ):
-            return {"progress_weighted": bool(weighted)}  # named only when it differs (hashes)
-        return {}
+        if weighted is not None and weighted != self.progress_weighted:
+            kwargs["progress_weighted"] = bool(weighted)  # named only when it differs (hashes)
+        if self.pf_arrival_gate:  # named only when set (hashes)
+            kwargs["arrival_gate"] = float(self.pf_arrival_gate)
+        return kwargs
 
     def train_env_kwargs(self, env_id: str | None = None) -> dict[str, Any]:
         """Keyword arguments of the training environment (start noise and the learners' sonar
@@ -1458,6 +1490,8 @@ FACTOR_LABELS: dict[str, str] = {
     "prior_keep_best_by_pf_straight": "straight path-following column's checks ranked by",
     "planning_layout": "obstacles the planning agents train on",
     "planning_obstacle_penalty": "weight of eq. 20's r_v in the learners' planning tasks",
+    "planning_arrival_gate": "planning tasks end as arrival only this close to the target (m)",
+    "pf_arrival_gate": "path-following columns' tasks: arrival only this close to the target (m)",
 }
 
 
@@ -1504,6 +1538,8 @@ def describe_value(name: str, value: Any) -> str:
         if unit == "episode":
             return f"{steps} per episode"
         return f"{steps} per step" if freq == 1 else f"{steps} per {freq} steps"
+    if name in ("planning_arrival_gate", "pf_arrival_gate"):
+        return "none" if not value else f"{value:g} m"
     if name == "goal_distance":
         return "the target point" if value is None else f"{value:g} m ahead"
     if name == "heading_rule":

@@ -42,12 +42,15 @@ import numpy as np
 import torch as th
 
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
+from sb3_pnn.common.checks import float_in
 from sb3_pnn.evaluation.evaluate import evaluate_policy_on_task
 from sb3_pnn.progressive.gates import checked_corridor
 from sb3_pnn.reproduce.reporting.stats import difference_ci
 from sb3_pnn.reproduce.tools.corridor_release import CorridorRelease
 from sb3_pnn.reproduce.tools.replay import (
+    add_arrival_gate_option,
     add_no_reversal_option,
+    gated,
     no_reversal_of,
     run_env_kwargs,
     run_folders,
@@ -82,6 +85,14 @@ def bound_gate(parser: argparse.ArgumentParser, model, corridor: float | str, ru
     gate.corridor = None if corridor == "none" else float(corridor)
 
 
+def set_switch_distance(parser: argparse.ArgumentParser, model, d_th: float, run) -> None:
+    """Set the SPNN policy's gate switch distance d_th (m) for predict (training unchanged)."""
+    gate = getattr(getattr(getattr(model, "policy", None), "actor", None), "gate", None)
+    if not hasattr(gate, "d_th"):
+        parser.error(f"--d-th needs SPNN runs with a distance gate; {run} has none")
+    gate.d_th = float(d_th)
+
+
 def released(parser: argparse.ArgumentParser, policy, model, release: float, run):
     """``policy`` played with the corridor bound released only below ``release`` d_L."""
     gate = getattr(getattr(getattr(model, "policy", None), "actor", None), "gate", None)
@@ -98,10 +109,12 @@ def drawn_success(
     and path, replayed among drawn obstacles on the validation seeds."""
     out = []
     for seed, run in run_folders(study, args.agent, args.path, args.seeds):
-        env_kwargs = dict(run_env_kwargs(parser, run), layout=LAYOUT)
+        env_kwargs = dict(gated(run_env_kwargs(parser, run), args.arrival_gate), layout=LAYOUT)
         model = run_model(parser, run)
         if args.gate_corridor is not None:
             bound_gate(parser, model, args.gate_corridor, run)
+        if args.d_th is not None:
+            set_switch_distance(parser, model, args.d_th, run)
         no_reversal = no_reversal_of(args)
         policy = args.agent if model is None else run_played(parser, run, model, no_reversal)
         if args.corridor_release is not None:
@@ -142,6 +155,13 @@ def main(argv: list[str] | None = None) -> int:
         "'none' for eq. 15's unbounded gate (default: as trained)",
     )
     parser.add_argument(
+        "--d-th",
+        type=float_in("--d-th", 0.0, 100.0, "m"),
+        metavar="D",
+        help="SPNN runs: replay with the gate's switch distance d_th set to D m (default: as "
+        "trained)",
+    )
+    parser.add_argument(
         "--against",
         type=Path,
         metavar="BASE",
@@ -156,6 +176,7 @@ def main(argv: list[str] | None = None) -> int:
         "avoidance column cut until abs(g) / d_L < R (a diagnosis; default: no release)",
     )
     add_no_reversal_option(parser)
+    add_arrival_gate_option(parser)
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)

@@ -30,7 +30,9 @@ from sb3_pnn.baselines import BASELINE_NAMES
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.reproduce.tools.replay import (
+    add_arrival_gate_option,
     add_no_reversal_option,
+    gated,
     no_reversal_of,
     run_eval_task,
     run_folders,
@@ -97,11 +99,13 @@ def route(
     episodes: int,
     tasks: tuple[str, ...] = TASKS,
     no_reversal: bool | None = None,
+    arrival_gate: float | None = None,
 ) -> dict[str, dict]:
     """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
     target (s; None without a success) of the run's kept policy on seeds 40000+, played as the
     study evaluated it (a switch memory where its spec names one; ``no_reversal`` as
-    :func:`sb3_pnn.reproduce.tools.replay.run_played`)."""
+    :func:`sb3_pnn.reproduce.tools.replay.run_played`; ``arrival_gate`` as
+    :func:`sb3_pnn.reproduce.tools.replay.gated`)."""
     evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
     model = run_model(parser, run)
     agent = json.loads((run / "manifest.json").read_text())["agent"]
@@ -109,7 +113,11 @@ def route(
     out = {}
     for task, (env_id, env_kwargs) in evaluated.items():
         result = evaluate_policy_on_task(
-            policy, env_id, n_episodes=episodes, seed=FRESH_SEED, env_kwargs=env_kwargs
+            policy,
+            env_id,
+            n_episodes=episodes,
+            seed=FRESH_SEED,
+            env_kwargs=gated(env_kwargs, arrival_gate),
         )
         out[task] = {
             "success": result.success_rate,
@@ -146,6 +154,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
     parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
     add_no_reversal_option(parser)
+    add_arrival_gate_option(parser)
     args = parser.parse_args(argv)
     th.set_num_threads(1)
     runs = chosen_runs(parser, args)
@@ -160,7 +169,9 @@ def main(argv: list[str] | None = None) -> int:
         row = [str(seed)]
         for i, study in enumerate(studies):
             run = folders(study, args.agent, args.path, [seed])[0][1]
-            measured[i].append(route(parser, run, args.episodes, tasks, no_reversal_of(args)))
+            measured[i].append(
+                route(parser, run, args.episodes, tasks, no_reversal_of(args), args.arrival_gate)
+            )
             row += cells(measured[i][-1])
         print("| " + " | ".join(row) + " |")
     summary = [means(m) for m in measured]

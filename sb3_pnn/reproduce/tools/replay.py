@@ -14,7 +14,7 @@ import gymnasium as gym
 import rov_envs  # noqa: F401  (registers the tasks)
 from sb3_pnn import DiscreteSAC
 from sb3_pnn.baselines import BASELINE_NAMES, make_baseline
-from sb3_pnn.common.checks import positive_int
+from sb3_pnn.common.checks import float_in, positive_int
 
 
 def task_parser(doc: str, episodes: int) -> argparse.ArgumentParser:
@@ -119,6 +119,39 @@ def add_no_reversal_option(parser: argparse.ArgumentParser) -> None:
 def no_reversal_of(args: argparse.Namespace) -> bool | None:
     """``--no-reversal``'s value as :func:`run_played` takes it."""
     return None if args.no_reversal is None else args.no_reversal == "on"
+
+
+def _gate_value(text: str) -> float | str:
+    """``--arrival-gate``'s value: metres in [2, 100], or ``"none"`` (no gate)."""
+    if text == "none":
+        return text
+    return float_in("--arrival-gate", 2.0, 100.0, "m from the target point, or none")(text)
+
+
+def add_arrival_gate_option(parser: argparse.ArgumentParser) -> None:
+    """``--arrival-gate M|none``: replay every run with rov_envs' ``arrival_gate`` M (the end of
+    the path counts as arrival only within M m of the target) or without one, on both sides of
+    a comparison."""
+    parser.add_argument(
+        "--arrival-gate",
+        type=_gate_value,
+        default=None,
+        metavar="M",
+        help="replay with the end of the path counted as arrival only within M m (2-100) of the "
+        "target point, a miss failing; none: without a gate (default: as each run was "
+        "evaluated)",
+    )
+
+
+def gated(env_kwargs: dict[str, Any], gate: float | str | None) -> dict[str, Any]:
+    """``env_kwargs`` with ``arrival_gate`` set to ``gate``, removed for ``"none"`` (None:
+    unchanged)."""
+    out = dict(env_kwargs)
+    if gate == "none":
+        out.pop("arrival_gate", None)
+    elif gate is not None:
+        out["arrival_gate"] = float(gate)
+    return out
 
 
 def run_baseline(run: Path, env: gym.Env) -> Any:

@@ -82,3 +82,51 @@ def test_a_gate_bound_needs_a_policy_with_a_distance_gate(tmp_path, capsys):
             [str(tmp_path), "--agent", "adaptive_pid", "--episodes", "1", "--gate-corridor", "0.9"]
         )
     assert "--gate-corridor needs SPNN runs with a distance gate" in capsys.readouterr().err
+
+
+def test_an_arrival_gate_replays_the_runs_with_the_gate(tmp_path, capsys):
+    """``--arrival-gate 5``: the run's env keywords plus arrival_gate=5 (a PID ends on its path,
+    so the printed figure is that of the gated task, computed here alike)."""
+    _pid_run(tmp_path, {"control_period": 1.0})
+    argv = [str(tmp_path), "--agent", "adaptive_pid", "--episodes", "3", "--arrival-gate", "5"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    gated = evaluate_policy_on_task(
+        "adaptive_pid",
+        "rov_envs/PlanningStraight-v0",
+        3,
+        20000,
+        env_kwargs={"control_period": 1.0, "layout": "scatter", "arrival_gate": 5.0},
+    )
+    ends = ", ".join(f"{k} {v}" for k, v in sorted(gated.end_reasons.items()))
+    assert f"| 0 | {100 * gated.success_rate:.0f} % | {ends} |" in out
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "message"),
+    [
+        (
+            "--arrival-gate",
+            "1",
+            "--arrival-gate must be a number in [2, 100] (m from the target point, or none)",
+        ),
+        (
+            "--arrival-gate",
+            "far",
+            "--arrival-gate must be a number in [2, 100] (m from the target point, or none)",
+        ),
+        ("--d-th", "0", "--d-th must be a number in (0, 100] (m), got '0'"),
+    ],
+)
+def test_a_bad_replay_option_is_refused_by_name(tmp_path, capsys, option, value, message):
+    with pytest.raises(SystemExit) as stop:
+        main([str(tmp_path), option, value])
+    assert stop.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_switch_distance_needs_a_policy_with_a_distance_gate(tmp_path, capsys):
+    _pid_run(tmp_path, {"control_period": 0.5})
+    with pytest.raises(SystemExit):
+        main([str(tmp_path), "--agent", "adaptive_pid", "--episodes", "1", "--d-th", "10"])
+    assert "--d-th needs SPNN runs with a distance gate" in capsys.readouterr().err
