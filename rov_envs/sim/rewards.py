@@ -30,6 +30,9 @@ The reward of a step is ``r = r_c + r_v + r_terminal`` (eq. 17 plus eq. 21):
 * ``r_terminal`` (eq. 21): -200 once when the episode fails, i.e. when ``|g| >= d_L``,
   ``|a_c| >= pi/2`` or ``d <= 2`` (several at once still give -200). The paper says the vehicle
   "will receive another reward" in those cases, so it is added to ``r_c + r_v`` of that step.
+  With ``arrival_gate`` (NOT in the paper's list; default None) an episode whose vehicle passes
+  the end of the path farther than the gate from the target point also fails this way
+  (``END_MISSED``).
 * ``r_terminal`` on success (NOT in the paper; argument ``success_reward``, default +200): eq.
   17-21 pay a positive ``r_c`` (about +1) on every step spent near the path and nothing for
   arriving, so arriving ends a stream of reward and a learner is paid to crawl (DiscreteSAC's

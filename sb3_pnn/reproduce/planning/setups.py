@@ -350,7 +350,7 @@ Factors:
   anywhere inside the 30 m corridor counts as success. ``pf_arrival_gate`` is the same gate
   for the path-following source columns' tasks (training and evaluation): their episodes start
   metres off the path (``pf_start_spread``), and the gate pays the way back, which eq. 18
-  weighted by progress along the path barely does (docs/ablation sections 84-89).
+  weighted by progress along the path barely does (docs/ablation sections 84-90).
 """
 
 from __future__ import annotations

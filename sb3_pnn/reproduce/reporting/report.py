@@ -130,8 +130,9 @@ def end_reasons(heading_rule: str = "goal") -> dict[str, str]:
         "off_path": f"the distance from the path |g| reached d_L ({d_l})",
         "time_limit": f"none of these within {TIME_LIMIT_FACTOR:g} x the path's arc length at "
         f"{U_REF:g} m/s (truncated)",
-        "missed_target": "reached the path's end farther from the target than the task's arrival "
-        "gate (only with the factor planning_arrival_gate)",
+        "missed_target": "reached the path's end farther from the target point than the task's "
+        "arrival gate (only with rov_envs' arrival_gate: factors planning_arrival_gate, "
+        "pf_arrival_gate)",
     }
     return {reason: text[reason] for reason in END_REASONS if reason != "none"}
 
