@@ -104,7 +104,7 @@ def main() -> None:
     parser.add_argument("--pf-sine", required=True)
     parser.add_argument("--oa", required=True)
     parser.add_argument("--d-th", type=float, default=12.5, help="switch distance (m), paper 12.5")
-    add_hysteresis_argument(parser)
+    add_hysteresis_argument(parser, default=[0.0])
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument(
         "--seed", type=int, default=EVAL_SEED, help="first episode seed (study evaluation: 10000)"

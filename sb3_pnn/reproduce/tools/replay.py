@@ -86,6 +86,15 @@ def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
     return DiscreteSAC.load(run / "model.zip", device="cpu")
 
 
+def run_play(run: Path) -> dict[str, Any]:
+    """The ``play`` of the run's spec (its manifest): how the study evaluated the trained model
+    (``switch_memory`` m, ``no_reversal``); empty for a folder without a manifest or a run made
+    before ``play`` existed (played as trained)."""
+    manifest = run / "manifest.json"
+    spec = json.loads(manifest.read_text()).get("spec") or {} if manifest.is_file() else {}
+    return dict(spec.get("play") or {})
+
+
 def run_played(
     parser: argparse.ArgumentParser, run: Path, model: Any, no_reversal: bool | None = None
 ) -> Any:
@@ -96,9 +105,7 @@ def run_played(
     without a manifest plays as trained."""
     from sb3_pnn.reproduce.running.work import played
 
-    manifest = run / "manifest.json"
-    spec = json.loads(manifest.read_text()).get("spec") or {} if manifest.is_file() else {}
-    play = dict(spec.get("play") or {})
+    play = run_play(run)
     if no_reversal is not None:
         play["no_reversal"] = no_reversal
     return played(play, model)

@@ -9,12 +9,18 @@ control it keeps it until the nearest reading is beyond d_th + H (each episode s
 memoryless; a soft gate holds the avoidance column's weight until then). The 180-degree sonar
 loses an obstacle when the vehicle turns its back to it, and
 eq. 15's memoryless switch then hands control back to the path follower, which turns the
-vehicle back toward the obstacle. Episodes run on the validation seeds
-(20000+, never the study's evaluation seeds 10000+), 1 m / 5 deg start noise, deterministic
+vehicle back toward the obstacle.
+
+Each run is played as the study evaluated it, apart from what is asked: on each task with the
+env keywords of the run's own evaluation (``eval.json``), through the switch memory and
+NoReversal its spec names (``spnn_play_memory``, ``spnn_play_no_reversal``); ``--hysteresis``
+replaces the spec's memory (0: none), NoReversal stays as the run was played. Episodes run on
+the validation seeds (20000+, never the study's evaluation seeds 10000+), deterministic
 actions; nothing is chosen here. ``--drawn-layouts`` replaces the new layouts by the training
 task among obstacles drawn afresh by the ``scatter`` generator (the validation measure of
-generalization of :mod:`.drawn_layouts`). Prints, per task, d_th and H, the success rate over
-the seeds' episodes, per seed, the return, the route kept and how the episodes ended.
+generalization of :mod:`.drawn_layouts`, whose figures the row at the run's own d_th repeats).
+Prints, per task, d_th and H, the success rate over the seeds' episodes, per seed, the return,
+the route kept and how the episodes ended.
 
 Usage: python -m sb3_pnn.reproduce.tools.spnn_switch_distance STUDY --path straight
     [--d-th 12.5 8 16 20] [--hysteresis 0 10] [--drawn-layouts] [--episodes 30]
@@ -24,6 +30,7 @@ Usage: python -m sb3_pnn.reproduce.tools.spnn_switch_distance STUDY --path strai
 from __future__ import annotations
 
 import argparse
+import json
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -31,13 +38,14 @@ from typing import Any
 import numpy as np
 import torch as th
 
-from sb3_pnn import DiscreteSAC
 from sb3_pnn.common.callbacks import DRAWN_VALIDATION_LAYOUT, VALIDATION_SEED
 from sb3_pnn.common.checks import is_finite_number
 from sb3_pnn.evaluation import evaluate_policy_on_task
-from sb3_pnn.progressive.switch_memory import SwitchMemory
-from sb3_pnn.reproduce.planning.plan import EVAL_TASKS
-from sb3_pnn.reproduce.planning.setups import OURS
+from sb3_pnn.evaluation.played import played_through
+from sb3_pnn.reproduce.tools.replay import run_eval_task, run_model, run_play
+
+#: The evaluations of ``eval.json`` that are not a planning layout (the path without obstacles).
+NOT_A_LAYOUT = ("path_following",)
 
 
 def _hysteresis(text: str) -> float:
@@ -53,17 +61,45 @@ def _hysteresis(text: str) -> float:
     return value
 
 
-def add_hysteresis_argument(parser: argparse.ArgumentParser) -> None:
-    """``--hysteresis H [H ...]`` (m), one row per value; 0 is eq. 15's memoryless switch."""
+def add_hysteresis_argument(
+    parser: argparse.ArgumentParser, default: list[float] | None = None
+) -> None:
+    """``--hysteresis H [H ...]`` (m), one row per value; 0 is eq. 15's memoryless switch;
+    ``default`` when not given (None: as each run was played)."""
     parser.add_argument(
         "--hysteresis",
         type=_hysteresis,
         nargs="+",
-        default=[0.0],
+        default=default,
         metavar="H",
         help="once the avoidance column has control, keep it until the nearest obstacle is "
-        "beyond d_th + H (m); 0: eq. 15's memoryless switch; several values: one row each",
+        "beyond d_th + H (m); 0: eq. 15's memoryless switch; several values: one row each "
+        "(default: as the study played each run)",
     )
+
+
+def run_tasks(
+    parser: argparse.ArgumentParser, run: Path, drawn: bool
+) -> list[tuple[str, str, dict[str, Any]]]:
+    """(label, env id, env keywords) of the tasks to replay ``run`` on, each with the env
+    keywords of the run's own evaluation: its planning task, then the new layouts it was
+    evaluated on, or (``drawn``) its planning task among obstacles drawn afresh."""
+    env_id, kwargs = run_eval_task(parser, run, "original")
+    tasks = [("original", env_id, kwargs)]
+    if drawn:
+        return [*tasks, ("drawn", env_id, {**kwargs, "layout": DRAWN_VALIDATION_LAYOUT})]
+    names = json.loads((run / "eval.json").read_text())
+    for label in names:
+        if label != "original" and label not in NOT_A_LAYOUT:
+            tasks.append((label, *run_eval_task(parser, run, label)))
+    return tasks
+
+
+def play_with(model: Any, play: dict[str, Any], hysteresis: float | None) -> Any:
+    """``model`` played as the run's spec ``play`` names, the switch memory replaced by
+    ``hysteresis`` m (0: none) unless None; the memory's d_th is the gate's (as set)."""
+    memory = play.get("switch_memory") if hysteresis is None else (hysteresis or None)
+    return played_through(model, memory, bool(play.get("no_reversal")))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -89,36 +125,36 @@ def main(argv: list[str] | None = None) -> int:
         if not is_finite_number(value) or value < 0:
             parser.error(f"--d-th {value} is not allowed: expected finite distances >= 0 (m)")
     th.set_num_threads(1)
-    original = [(label, env_id, {}) for label, env_id, extra in EVAL_TASKS[args.path] if not extra]
-    if args.drawn_layouts:
-        tasks = [original[0], ("drawn", original[0][1], {"layout": DRAWN_VALIDATION_LAYOUT})]
-    else:
-        tasks = original
-    rows: dict[tuple[str, float, float], dict[str, Any]] = {}
+    hysteresis_values: list[float | None] = args.hysteresis or [None]
+    rows: dict[tuple[str, float, str], dict[str, Any]] = {}
     for seed in args.seeds:
-        zip_path = args.study / "runs" / f"spnn-{args.path}-s{seed}" / "model.zip"
-        if not zip_path.exists():
-            parser.error(f"{zip_path} does not exist: expected a study folder with SPNN runs")
-        model = DiscreteSAC.load(zip_path, device="cpu")
-        if model.policy.actor.gate.mode == "learned" and args.hysteresis != [0.0]:
+        run = args.study / "runs" / f"spnn-{args.path}-s{seed}"
+        tasks = run_tasks(parser, run, args.drawn_layouts)
+        model = run_model(parser, run)
+        gate = getattr(getattr(getattr(model, "policy", None), "actor", None), "gate", None)
+        if not hasattr(gate, "d_th"):
+            parser.error(f"{run} is not an SPNN run with a distance gate")
+        if gate.mode == "learned" and args.hysteresis:
             parser.error(
-                f"{zip_path} has a learned gate: --hysteresis needs a distance gate (eq. 15's "
+                f"{run} has a learned gate: --hysteresis needs a distance gate (eq. 15's "
                 "hard switch or the soft gate)"
             )
+        play = run_play(run)
         for d_th in args.d_th:
-            for hysteresis in args.hysteresis:
-                model.policy.actor.gate.d_th = d_th  # the actor's gate decides the actions
-                policy = SwitchMemory(model, hysteresis, d_th) if hysteresis > 0 else model
-                for label, env_id, extra in tasks:
+            gate.d_th = d_th  # the actor's gate decides the actions
+            for hysteresis in hysteresis_values:
+                policy = play_with(model, play, hysteresis)
+                shown = "as played" if hysteresis is None else f"{hysteresis:g}"
+                for label, env_id, env_kwargs in tasks:
                     result = evaluate_policy_on_task(
                         policy,
                         env_id,
                         n_episodes=args.episodes,
                         seed=VALIDATION_SEED,
-                        env_kwargs={**OURS.env_kwargs(), **extra},
+                        env_kwargs=env_kwargs,
                     )
                     row = rows.setdefault(
-                        (label, d_th, hysteresis),
+                        (label, d_th, shown),
                         {"rates": [], "returns": [], "g": [], "ac": [], "ends": Counter()},
                     )
                     row["rates"].append(round(100 * result.success_rate))
@@ -135,7 +171,7 @@ def main(argv: list[str] | None = None) -> int:
     for (label, d_th, hysteresis), row in rows.items():
         ended = ", ".join(f"{k} {v}" for k, v in row["ends"].most_common())
         print(
-            f"| {label} | {d_th:g} | {hysteresis:g} | {np.mean(row['rates']):.0f} % | "
+            f"| {label} | {d_th:g} | {hysteresis} | {np.mean(row['rates']):.0f} % | "
             f"{' '.join(map(str, row['rates']))} | {np.mean(row['returns']):.0f} | "
             f"{np.mean(row['g']):.2f} m, {np.mean(row['ac']):.1f} deg | {ended} |"
         )
