@@ -21,6 +21,10 @@ bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
 ``--corridor-release R`` (with a bound, the run's or ``--gate-corridor``'s) keeps the bound's
 cut until abs(g) / d_L < R (:mod:`sb3_pnn.reproduce.tools.corridor_release`; section 49).
 
+``--return-by NAME`` (with ``--return-clear M``, ``--return-offset G``) lets a PID baseline
+steer wherever the sonar is clear and the vehicle off its path
+(:mod:`sb3_pnn.reproduce.tools.return_controller`; section 93).
+
 ``--against BASE`` replays the same agent, path and seeds of a second study and prints the
 difference of the two mean success rates with a 95 % Welch interval over runs: each training
 run is one draw, and runs of one set-up can differ by tens of points among drawn obstacles, so a
@@ -29,7 +33,7 @@ section 30).
 
 Usage: python -m sb3_pnn.reproduce.tools.drawn_layouts STUDY --agent pnn --path straight
     [--seeds 0 1 2] [--episodes 50] [--gate-corridor 0.9] [--against BASE_STUDY]
-    [--no-reversal on|off]
+    [--no-reversal on|off] [--arrival-gate 5] [--return-by adaptive_pid]
 """
 
 from __future__ import annotations
@@ -59,6 +63,7 @@ from sb3_pnn.reproduce.tools.replay import (
     task_id,
     task_parser,
 )
+from sb3_pnn.reproduce.tools.return_controller import add_return_options, returned
 
 #: The generator whose layouts the measure draws (rov_envs.sim.layouts): not an evaluation one;
 #: the one ``KeepBestOnValidation(drawn_episodes=...)`` checks on, on other seeds.
@@ -119,6 +124,7 @@ def drawn_success(
         policy = args.agent if model is None else run_played(parser, run, model, no_reversal)
         if args.corridor_release is not None:
             policy = released(parser, policy, model, args.corridor_release, run)
+        policy = returned(parser, args, policy, env_id, env_kwargs)
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
         )
@@ -177,6 +183,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     add_no_reversal_option(parser)
     add_arrival_gate_option(parser)
+    add_return_options(parser)
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)

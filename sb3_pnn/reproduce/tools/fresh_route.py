@@ -8,7 +8,9 @@ success, mean abs(g), mean abs(a_c) and mean time to the target of both tasks, a
 over the runs. ``--against BASE`` prints a second study's runs of the same seeds beside them and
 the relative change of the mean abs(g) (the route rules of docs/ablation sections 22-32).
 ``--no-reversal on|off`` replays every run with or without :class:`sb3_pnn.evaluation.NoReversal`
-(default: as the study played it).
+(default: as the study played it). ``--arrival-gate M`` replays with the 5 m (or M m) arrival gate;
+``--return-by NAME`` lets a PID baseline steer in open water off the path
+(:mod:`sb3_pnn.reproduce.tools.return_controller`).
 ``--agent pf_column`` measures the path's path-following source column instead, on its own
 task (the column's ``"own"`` evaluation task: the path without obstacles) on the same seeds.
 
@@ -39,6 +41,7 @@ from sb3_pnn.reproduce.tools.replay import (
     run_model,
     run_played,
 )
+from sb3_pnn.reproduce.tools.return_controller import add_return_options, returned
 
 #: First seed of the fresh validation episodes.
 FRESH_SEED = 40_000
@@ -100,24 +103,24 @@ def route(
     tasks: tuple[str, ...] = TASKS,
     no_reversal: bool | None = None,
     arrival_gate: float | None = None,
+    return_to: tuple[argparse.ArgumentParser, argparse.Namespace] | None = None,
 ) -> dict[str, dict]:
     """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
     target (s; None without a success) of the run's kept policy on seeds 40000+, played as the
     study evaluated it (a switch memory where its spec names one; ``no_reversal`` as
     :func:`sb3_pnn.reproduce.tools.replay.run_played`; ``arrival_gate`` as
-    :func:`sb3_pnn.reproduce.tools.replay.gated`)."""
+    :func:`sb3_pnn.reproduce.tools.replay.gated`; ``return_to`` (the parser and its arguments)
+    through :func:`sb3_pnn.reproduce.tools.return_controller.returned`)."""
     evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
     model = run_model(parser, run)
     agent = json.loads((run / "manifest.json").read_text())["agent"]
     policy = agent if model is None else run_played(parser, run, model, no_reversal)
     out = {}
     for task, (env_id, env_kwargs) in evaluated.items():
+        env_kwargs = gated(env_kwargs, arrival_gate)
+        played = policy if return_to is None else returned(*return_to, policy, env_id, env_kwargs)
         result = evaluate_policy_on_task(
-            policy,
-            env_id,
-            n_episodes=episodes,
-            seed=FRESH_SEED,
-            env_kwargs=gated(env_kwargs, arrival_gate),
+            played, env_id, n_episodes=episodes, seed=FRESH_SEED, env_kwargs=env_kwargs
         )
         out[task] = {
             "success": result.success_rate,
@@ -155,6 +158,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--against", type=Path, default=None, help="a second study to compare")
     add_no_reversal_option(parser)
     add_arrival_gate_option(parser)
+    add_return_options(parser)
     args = parser.parse_args(argv)
     th.set_num_threads(1)
     runs = chosen_runs(parser, args)
@@ -170,7 +174,15 @@ def main(argv: list[str] | None = None) -> int:
         for i, study in enumerate(studies):
             run = folders(study, args.agent, args.path, [seed])[0][1]
             measured[i].append(
-                route(parser, run, args.episodes, tasks, no_reversal_of(args), args.arrival_gate)
+                route(
+                    parser,
+                    run,
+                    args.episodes,
+                    tasks,
+                    no_reversal_of(args),
+                    args.arrival_gate,
+                    (parser, args),
+                )
             )
             row += cells(measured[i][-1])
         print("| " + " | ".join(row) + " |")
