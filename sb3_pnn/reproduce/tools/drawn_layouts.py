@@ -124,7 +124,7 @@ def drawn_success(
         policy = args.agent if model is None else run_played(parser, run, model, no_reversal)
         if args.corridor_release is not None:
             policy = released(parser, policy, model, args.corridor_release, run)
-        policy = returned(parser, args, policy, env_id, env_kwargs)
+        policy = returned(parser, args, policy, env_id, env_kwargs, run)
         result = evaluate_policy_on_task(
             policy, env_id, args.episodes, VALIDATION_SEED, env_kwargs=env_kwargs
         )

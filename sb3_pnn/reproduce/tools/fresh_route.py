@@ -118,7 +118,9 @@ def route(
     out = {}
     for task, (env_id, env_kwargs) in evaluated.items():
         env_kwargs = gated(env_kwargs, arrival_gate)
-        played = policy if return_to is None else returned(*return_to, policy, env_id, env_kwargs)
+        played = (
+            policy if return_to is None else returned(*return_to, policy, env_id, env_kwargs, run)
+        )
         result = evaluate_policy_on_task(
             played, env_id, n_episodes=episodes, seed=FRESH_SEED, env_kwargs=env_kwargs
         )

@@ -3,17 +3,23 @@ sonar is clear and the vehicle off its path, and nowhere else (docs/ablation sec
 
 from __future__ import annotations
 
+import argparse
 import json
 from types import SimpleNamespace
 
 import gymnasium as gym
 import numpy as np
 import pytest
+from gymnasium import spaces
 
 import rov_envs  # noqa: F401  (registers the tasks)
 from sb3_pnn.baselines import make_baseline
 from sb3_pnn.reproduce.tools.drawn_layouts import main as drawn_main
-from sb3_pnn.reproduce.tools.return_controller import ReturnController
+from sb3_pnn.reproduce.tools.return_controller import (
+    ColumnController,
+    ReturnController,
+    return_column,
+)
 
 STRAIGHT, LEFT = 2, 0  # Table 1's "Go straight" and "Turn left 2"
 
@@ -98,9 +104,35 @@ def test_the_replay_tools_refuse_a_baselines_run_and_a_bad_option(tmp_path, caps
     argv = [str(tmp_path), "--agent", "adaptive_pid", "--episodes", "1"]
     with pytest.raises(SystemExit):
         drawn_main([*argv, "--return-by", "pid"])
-    assert "--return-by needs trained runs; got the baseline 'adaptive_pid'" in (
+    assert "--return-by / --return-column need trained runs; got the baseline 'adaptive_pid'" in (
         capsys.readouterr().err
     )
     with pytest.raises(SystemExit):
         drawn_main([*argv, "--return-by", "pid", "--return-offset", "-1"])
     assert "--return-offset" in capsys.readouterr().err
+
+
+def test_a_column_controller_reads_its_own_parts_greedily() -> None:
+    """A path-following column observes fewer parts than a planning task: it is given only its
+    own, and plays its greedy action whatever the caller asks."""
+
+    class Column:
+        observation_space = spaces.Dict(
+            {"path": spaces.Box(-1, 1, (2,)), "motion": spaces.Box(-3, 3, (2,))}
+        )
+
+        def predict(self, obs, state=None, episode_start=None, deterministic=False):
+            self.seen = (sorted(obs), deterministic)
+            return np.zeros(len(obs["path"]), int), state
+
+    column = Column()
+    obs = {key: np.zeros((1, 2)) for key in ("path", "goal", "sonar", "motion")}
+    ColumnController(column).predict(obs, deterministic=False)
+    assert column.seen == (["motion", "path"], True)
+
+
+def test_a_missing_return_column_stops_with_a_message(tmp_path, capsys) -> None:
+    parser = argparse.ArgumentParser()
+    with pytest.raises(SystemExit):
+        return_column(parser, tmp_path, tmp_path / "runs" / "spnn-straight-s3")
+    assert "prior-pf_straight-s3/model.zip does not exist" in capsys.readouterr().err
