@@ -22,8 +22,9 @@ bound of ``spnn_gate_corridor`` was chosen this way (docs/ablation section 25).
 cut until abs(g) / d_L < R (:mod:`sb3_pnn.reproduce.tools.corridor_release`; section 49).
 
 ``--return-by NAME`` (with ``--return-clear M``, ``--return-offset G``) lets a PID baseline
-steer wherever the sonar is clear and the vehicle off its path
-(:mod:`sb3_pnn.reproduce.tools.return_controller`; section 93).
+steer wherever the sonar is clear and the vehicle off its path, ``--return-column STUDY`` the
+same seed's path-following column of STUDY (:mod:`sb3_pnn.reproduce.tools.return_controller`;
+sections 93-94).
 
 ``--against BASE`` replays the same agent, path and seeds of a second study and prints the
 difference of the two mean success rates with a 95 % Welch interval over runs: each training

@@ -9,8 +9,8 @@ over the runs. ``--against BASE`` prints a second study's runs of the same seeds
 the relative change of the mean abs(g) (the route rules of docs/ablation sections 22-32).
 ``--no-reversal on|off`` replays every run with or without :class:`sb3_pnn.evaluation.NoReversal`
 (default: as the study played it). ``--arrival-gate M`` replays with the 5 m (or M m) arrival gate;
-``--return-by NAME`` lets a PID baseline steer in open water off the path
-(:mod:`sb3_pnn.reproduce.tools.return_controller`).
+``--return-by NAME`` / ``--return-column STUDY`` let a PID baseline or a path-following column
+steer in open water off the path (:mod:`sb3_pnn.reproduce.tools.return_controller`).
 ``--agent pf_column`` measures the path's path-following source column instead, on its own
 task (the column's ``"own"`` evaluation task: the path without obstacles) on the same seeds.
 

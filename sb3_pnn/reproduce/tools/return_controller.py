@@ -55,7 +55,8 @@ class ReturnController(PolicyWrapper):
     the vehicle-steps the controller played and all of them.
 
     :param policy: what to play elsewhere (a loaded model or a wrapper of one)
-    :param controller: a PID baseline bound to the env the policy plays in
+    :param controller: a PID baseline bound to the env the policy plays in, or a
+        :class:`ColumnController`
     :param config: that env's ``rov_envs.sim.config.EnvConfig`` (sonar range, d_L)
     :param clear: metres within which any sonar reading keeps the policy in control (0, range]
     :param offset: least abs(g) in metres at which the controller takes over (>= 0)
@@ -122,14 +123,16 @@ def add_return_options(parser: argparse.ArgumentParser) -> None:
         type=float_in("--return-clear", 0.0, 1000.0, "m"),
         default=None,
         metavar="M",
-        help="with --return-by: no sonar reading within M m (default: the sonar's range)",
+        help="with --return-by or --return-column: no sonar reading within M m (default: the "
+        "sonar's range)",
     )
     parser.add_argument(
         "--return-offset",
         type=float_in("--return-offset", 0.0, 1000.0, "m"),
         default=DEFAULT_OFFSET,
         metavar="G",
-        help=f"with --return-by: abs(g) of at least G m (default {DEFAULT_OFFSET:g})",
+        help=f"with --return-by or --return-column: abs(g) of at least G m (default "
+        f"{DEFAULT_OFFSET:g})",
     )
 
 
