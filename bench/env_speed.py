@@ -138,19 +138,27 @@ def main() -> None:
     v, cp = args.vehicle, args.control_period
 
     anchor = pendulum_stepper(sample=False)
-    rows: list[tuple[str, Callable[[int], None], int]] = [
-        ("Pendulum-v1, action_space.sample() in the loop", pendulum_stepper(sample=True), 1),
-        (f"{env_id} single", single_stepper(env_id, v, cp), 1),
-        (f"{env_id} single, continuous", single_stepper(env_id, v, cp, True), 1),
+    # (name, stepper, vehicles per call, simulated seconds per vehicle-step)
+    rows: list[tuple[str, Callable[[int], None], int, float]] = [
+        (
+            "Pendulum-v1, action_space.sample() in the loop",
+            pendulum_stepper(sample=True),
+            1,
+            PENDULUM_DT,
+        ),
+        (f"{env_id} single", single_stepper(env_id, v, cp), 1, cp),
+        (f"{env_id} single, continuous", single_stepper(env_id, v, cp, True), 1, cp),
     ]
     for n in args.envs:
-        rows.append((f"{env_id} make_vec N={n}", vector_stepper(env_id, n, False, v, cp), n))
+        rows.append((f"{env_id} make_vec N={n}", vector_stepper(env_id, n, False, v, cp), n, cp))
         if not args.no_sb3:
-            rows.append((f"{env_id} RovSB3VecEnv N={n}", vector_stepper(env_id, n, True, v, cp), n))
+            rows.append(
+                (f"{env_id} RovSB3VecEnv N={n}", vector_stepper(env_id, n, True, v, cp), n, cp)
+            )
     big = max(args.envs)
     for task in args.extra_tasks:
         tid = f"rov_envs/{task}-v0"
-        rows.append((f"{tid} make_vec N={big}", vector_stepper(tid, big, False, v, cp), big))
+        rows.append((f"{tid} make_vec N={big}", vector_stepper(tid, big, False, v, cp), big, cp))
 
     print(
         f"vehicle {v}, control period {cp:g} s; numba {numba.__version__}, "
@@ -160,14 +168,14 @@ def main() -> None:
     )
     print(f"{'row':58s} {'steps/s':>12s} {'x anchor':>9s} {'anchor':>9s} {'sim s/s':>12s}")
     best_anchor_all = 0.0
-    for name, step, n in rows:
+    for name, step, n, dt in rows:
         step(0)  # numba cache load / first call outside the timing
         best, best_anchor = 0.0, 0.0
         for _ in range(args.rounds):
             best_anchor = max(best_anchor, timed(anchor, args.seconds / 2))
             best = max(best, timed(step, args.seconds) * n)
         best_anchor_all = max(best_anchor_all, best_anchor)
-        sim = best * (cp if name.startswith("rov_envs") else PENDULUM_DT)
+        sim = best * dt
         print(
             f"{name:58s} {best:12,.0f} {best / best_anchor:8.2f}x {best_anchor:9,.0f} {sim:12,.0f}"
         )
