@@ -283,7 +283,8 @@ Factors:
   (docs/ablation sections 54 and 57).
 * ``oa_offset_obs``: the avoidance column's "goal" part also holds its signed distance from
   the route, g / d_L (``rov_envs``' ``goal_offset``), on its own task (its start-goal line) and,
-  so that it reads there what it was trained on, in the SPNN's planning runs; no other run
+  so that it reads there what it was trained on, in the planning runs of every learner that
+  reads that column (SPNN's, and PNN's where ``pnn_avoidance_column`` acts); no other run
   changes. Without it a column trained within a corridor (``oa_corridor``) cannot see how close
   to the corridor's edge a detour has taken it.
 * ``prior_candidates``: each source column is trained this many times (training seeds
@@ -888,7 +889,8 @@ class TrainingSetup:
             kwargs["progress_along"] = along
         if agent == "pnn" and self.goal_obs and not self.pnn_goal_obs:
             kwargs["goal_obs"] = False
-        if agent == "spnn" and self.oa_offset_obs:
+        reads_avoidance = agent == "spnn" or (agent == "pnn" and self.pnn_reads_avoidance(path))
+        if reads_avoidance and self.oa_offset_obs:  # the avoidance column reads what it trained on
             kwargs["goal_offset"] = True
         return kwargs
 

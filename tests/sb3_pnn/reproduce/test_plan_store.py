@@ -591,24 +591,41 @@ def test_bad_n_steps_is_refused(factor, value) -> None:
         StudyConfig(budget_name="tiny", seeds=1, setup_changes=((factor, value),))
 
 
-def test_oa_offset_obs_reaches_the_avoidance_column_and_the_spnn_only() -> None:
-    """oa_offset_obs: the avoidance column trains and is evaluated with its offset in the goal
-    part, and the SPNN's planning runs (training and evaluation) observe it too, so that the
-    column reads what it was trained on; no other run changes."""
-    plain = {s.run_id: s for s in build_plan(StudyConfig(budget_name="tiny", seeds=1))}
+def _offset_runs(changes: tuple) -> set[str]:
+    """The runs that oa_offset_obs (with ``changes``) gives the goal offset, checking that they
+    get it in training and evaluation alike and that every other run is unchanged."""
+    plain = {
+        s.run_id: s
+        for s in build_plan(StudyConfig(budget_name="tiny", seeds=1, setup_changes=changes))
+    }
     changed = build_plan(
-        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(("oa_offset_obs", True),))
+        StudyConfig(budget_name="tiny", seeds=1, setup_changes=(*changes, ("oa_offset_obs", True)))
     )
     touched = set()
     for spec in changed:
-        if spec.run_id == "prior-oa-s0" or spec.agent == "spnn":
+        if spec.env_kwargs.get("goal_offset"):
             touched.add(spec.run_id)
-            assert spec.env_kwargs["goal_offset"] is True
             assert all(kw["goal_offset"] is True for _, _, kw in spec.eval_tasks)
         else:
             assert spec.env_kwargs == plain[spec.run_id].env_kwargs
             assert spec.eval_tasks == plain[spec.run_id].eval_tasks
-    assert touched == {"prior-oa-s0", "spnn-straight-s0", "spnn-sine-s0"}
+    return touched
+
+
+def test_oa_offset_obs_reaches_the_avoidance_column_and_the_learners_that_read_it() -> None:
+    """oa_offset_obs: the avoidance column trains and is evaluated with its offset in the goal
+    part, and the planning runs of every learner that reads the column (SPNN; PNN where it
+    reads the avoidance column) observe it too, so that the column reads what it was trained
+    on; no other run changes."""
+    assert _offset_runs(()) == {
+        "prior-oa-s0",
+        "spnn-straight-s0",
+        "spnn-sine-s0",
+        "pnn-straight-s0",
+        "pnn-sine-s0",
+    }
+    alone = (("pnn_avoidance_column", "neither"),)  # PNN reads its path column alone
+    assert _offset_runs(alone) == {"prior-oa-s0", "spnn-straight-s0", "spnn-sine-s0"}
 
 
 def test_spnn_action_smoothness_reaches_only_spnn_runs_when_on() -> None:
