@@ -111,3 +111,13 @@ def failing_prior_work(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> dict[
     if spec.run_id.startswith("prior-pf_straight"):
         raise RuntimeError("stand-in failure")
     return fake_work(spec, tmp, deps)
+
+
+def pid_baseline_run(study: Path, task: str = "original", env: str = "PlanningStraight-v0") -> None:
+    """A study folder's ``adaptive_pid-straight`` run as the replay tools read it: a manifest
+    naming the baseline and its evaluation ``task`` on ``env`` with the env's own keywords."""
+    run = study / "runs" / "adaptive_pid-straight"
+    run.mkdir(parents=True)
+    (run / "manifest.json").write_text(json.dumps({"agent": "adaptive_pid"}))
+    tasks = {task: {"env_id": f"rov_envs/{env}", "env_kwargs": {}}}
+    (run / "eval.json").write_text(json.dumps(tasks))

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
+from reproduce_helpers import pid_baseline_run
 
 from sb3_pnn.reproduce.tools.route_split import main, summary
 
@@ -24,18 +23,10 @@ def test_summary_splits_the_steps_by_the_obstacle_distance() -> None:
     assert 0.75 * s["near_g"] + 0.25 * s["clear_g"] == pytest.approx(s["all_g"])
 
 
-def _pid_run(study) -> None:
-    run = study / "runs" / "adaptive_pid-straight"
-    run.mkdir(parents=True)
-    (run / "manifest.json").write_text(json.dumps({"agent": "adaptive_pid"}))
-    task = {"env_id": "rov_envs/PlanningStraight-v0", "env_kwargs": {}}
-    (run / "eval.json").write_text(json.dumps({"original": task}))
-
-
 def test_the_adaptive_pid_strays_near_obstacles_and_keeps_its_path_beyond(tmp_path, capsys) -> None:
     """The PID detours around the planning task's obstacles (several metres off the path within
     12.5 m of them) and keeps its path beyond them (well under a metre)."""
-    _pid_run(tmp_path)
+    pid_baseline_run(tmp_path)
     assert main([str(tmp_path), "--agent", "adaptive_pid", "--episodes", "2"]) == 0
     row = capsys.readouterr().out.splitlines()[-1]
     cells = [c.strip() for c in row.strip("|").split("|")]
@@ -46,7 +37,7 @@ def test_the_adaptive_pid_strays_near_obstacles_and_keeps_its_path_beyond(tmp_pa
 
 
 def test_near_must_be_positive(tmp_path, capsys) -> None:
-    _pid_run(tmp_path)
+    pid_baseline_run(tmp_path)
     with pytest.raises(SystemExit) as stop:
         main([str(tmp_path), "--agent", "adaptive_pid", "--near", "0"])
     assert stop.value.code == 2
