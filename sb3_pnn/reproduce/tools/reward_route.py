@@ -17,6 +17,11 @@ reward as the learners were trained on it) and on the fresh validation seeds 400
 * each run of ``--agents`` (kept policy, played as the study evaluated it) on the same
   episodes, per seed and as a mean with its Student-t 95 % interval over seeds.
 
+With ``--parts`` the same episodes are played again and each policy's mean return is split
+into its terms per episode: r_c (eq. 18 / 19, the path), r_v (eq. 20, the charges near
+obstacles), the terminal reward (eq. 21's -200 or the success bonus), with the episode's steps
+and its steps within 8 m of an obstacle's surface (eq. 20's zone).
+
 The summary names the PID setting with the highest return among those that succeed in at
 least 98 % of the episodes, and the best one within the marks. If the best setting's route is
 outside the marks, the reward pays for a route wider than the marks; if a learner's return is
@@ -25,7 +30,7 @@ asks for.
 
 Usage: python -m sb3_pnn.reproduce.tools.reward_route STUDY --path sine
     [--agents spnn pnn] [--seeds 0 1 2] [--clearances 2.5 4.5 8] [--triggers 12 18]
-    [--episodes 50] [--gamma 0.99]
+    [--episodes 50] [--gamma 0.99] [--parts]
 """
 
 from __future__ import annotations
@@ -43,6 +48,7 @@ from sb3_pnn.baselines.adaptive_pid import AdaptivePIDController
 from sb3_pnn.common.checks import positive_int
 from sb3_pnn.dsac.dsac import PAPER_GAMMA
 from sb3_pnn.evaluation import evaluate_policy_on_task
+from sb3_pnn.evaluation.evaluate import DEFAULT_START_NOISE
 from sb3_pnn.reproduce.reporting.stats import mean_ci
 from sb3_pnn.reproduce.tools.fresh_route import FRESH_SEED
 from sb3_pnn.reproduce.tools.replay import run_eval_task, run_folders, run_model, run_played
@@ -76,29 +82,62 @@ def measure(policy: Any, env_id: str, env_kwargs: dict, episodes: int, gamma: fl
     }
 
 
+#: Eq. 20's outer zone: r_v charges within this distance (m) of an obstacle's surface.
+CHARGED_WITHIN = 8.0
+
+
+def reward_parts(policy: Any, env_id: str, env_kwargs: dict, episodes: int) -> dict:
+    """Mean per episode of r_c, r_v and the terminal reward (``info``'s ``r_c``, ``r_v``,
+    ``r_terminal``), of the steps and of the steps within :data:`CHARGED_WITHIN` of an
+    obstacle's surface, over the greedy episodes :func:`measure` plays (seeds 40000+, the
+    evaluation's start noise)."""
+    env = gym.make(env_id, **{"start_noise": DEFAULT_START_NOISE, **env_kwargs})
+    sums = {"r_c": [], "r_v": [], "terminal": [], "steps": [], "charged": []}
+    for episode in range(episodes):
+        obs, _ = env.reset(seed=FRESH_SEED + episode)
+        state, start, done = None, np.array([True]), False
+        totals = dict.fromkeys(sums, 0.0)
+        while not done:
+            action, state = policy.predict(
+                obs, state=state, episode_start=start, deterministic=True
+            )
+            start = np.array([False])
+            obs, _, terminated, truncated, info = env.step(action)
+            totals["r_c"] += float(info["r_c"])
+            totals["r_v"] += float(info["r_v"])
+            totals["terminal"] += float(info["r_terminal"])
+            totals["steps"] += 1
+            totals["charged"] += float(info["obstacle_distance"] <= CHARGED_WITHIN)
+            done = terminated or truncated
+        for key, value in totals.items():
+            sums[key].append(value)
+    return {key: float(np.mean(values)) for key, values in sums.items()}
+
+
+def parts_cells(m: dict) -> str:
+    """Table cells of one :func:`reward_parts`."""
+    return (
+        f"{m['r_c']:.1f} | {m['r_v']:.1f} | {m['terminal']:.1f} | {m['steps']:.0f} | "
+        f"{m['charged']:.1f}"
+    )
+
+
 def within_mark(m: dict) -> bool:
     """Whether a measured route keeps both :data:`ROUTE_MARK` marks."""
     return m["g"] <= ROUTE_MARK[0] and m["ac"] <= ROUTE_MARK[1]
 
 
-def pid_sweep(
-    env_id: str,
-    env_kwargs: dict,
-    clearances: list[float],
-    triggers: list[float],
-    episodes: int,
-    gamma: float,
-) -> list[dict]:
-    """:func:`measure` of the adaptive PID (its other gains the env's vehicle's) per
-    (clearance, trigger distance) pair."""
+def pid_settings(
+    env_id: str, env_kwargs: dict, clearances: list[float], triggers: list[float]
+) -> list[tuple[float, float, AdaptivePIDController]]:
+    """The adaptive PID (its other gains the env's vehicle's) per (clearance, trigger distance)
+    pair, as ``(clearance, trigger, controller)``."""
     env = gym.make(env_id, **env_kwargs)
-    rows = []
-    for clearance in clearances:
-        for trigger in triggers:
-            pid = AdaptivePIDController.for_env(env, clearance=clearance, trigger_distance=trigger)
-            row = measure(pid, env_id, env_kwargs, episodes, gamma)
-            rows.append({"clearance": clearance, "trigger": trigger, **row})
-    return rows
+    return [
+        (c, t, AdaptivePIDController.for_env(env, clearance=c, trigger_distance=t))
+        for c in clearances
+        for t in triggers
+    ]
 
 
 def best(rows: list[dict], in_mark: bool) -> dict | None:
@@ -133,6 +172,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--triggers", type=float, nargs="+", default=list(DEFAULT_TRIGGERS))
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
     parser.add_argument("--gamma", type=float, default=PAPER_GAMMA)
+    parser.add_argument(
+        "--parts", action="store_true", help="also split each return into its reward terms"
+    )
     args = parser.parse_args(argv)
     positive_floats(parser, "--clearances", args.clearances)
     positive_floats(parser, "--triggers", args.triggers)
@@ -153,30 +195,41 @@ def main(argv: list[str] | None = None) -> int:
     )
     header = "success | return | discounted | abs(g) (m) | abs(a_c) (deg) | within the marks"
     print(f"| policy | {header} |\n|---|---|---|---|---|---|---|")
-    rows = pid_sweep(env_id, env_kwargs, args.clearances, args.triggers, args.episodes, args.gamma)
-    for r in rows:
-        print(
-            f"| adaptive PID, clearance {r['clearance']:g} m, trigger {r['trigger']:g} m "
-            f"| {cells(r)} |"
-        )
+    played: list[tuple[str, Any, str, dict]] = []  # (label, policy, env id, env keywords)
+    rows = []
+    for clearance, trigger, pid in pid_settings(env_id, env_kwargs, args.clearances, args.triggers):
+        label = f"adaptive PID, clearance {clearance:g} m, trigger {trigger:g} m"
+        row = measure(pid, env_id, env_kwargs, args.episodes, args.gamma)
+        rows.append({"clearance": clearance, "trigger": trigger, **row})
+        played.append((label, pid, env_id, env_kwargs))
+        print(f"| {label} | {cells(row)} |")
     for agent in args.agents:
-        runs = run_folders(args.study, agent, args.path, args.seeds)
         measured = []
-        for seed, run in runs:
+        for seed, run in run_folders(args.study, agent, args.path, args.seeds):
             if not run.is_dir():
                 parser.error(f"{run} does not exist: expected the study's {agent} run")
-            model = run_model(parser, run)
+            policy = run_played(parser, run, run_model(parser, run))
             task_id, task_kwargs = run_eval_task(parser, run, "original")
-            m = measure(
-                run_played(parser, run, model), task_id, task_kwargs, args.episodes, args.gamma
-            )
+            m = measure(policy, task_id, task_kwargs, args.episodes, args.gamma)
             measured.append(m)
+            played.append((f"{agent}, seed {seed}", policy, task_id, task_kwargs))
             print(f"| {agent}, seed {seed} | {cells(m)} |")
         if measured:
             mean = {k: float(np.mean([m[k] for m in measured])) for k in measured[0]}
             _, lo, hi = mean_ci([m["return"] for m in measured])
             interval = f"return [{lo:.0f}, {hi:.0f}]"
             print(f"| {agent}, mean of {len(measured)} | {cells(mean)} ({interval}) |")
+    if args.parts:
+        print(
+            f"\nthe return's terms, mean per episode (charged steps: within "
+            f"{CHARGED_WITHIN:g} m of an obstacle's surface)"
+        )
+        print(
+            "| policy | r_c | r_v | terminal | steps | charged steps |\n|---|---|---|---|---|---|"
+        )
+        for label, policy, task_id, task_kwargs in played:
+            parts = reward_parts(policy, task_id, task_kwargs, args.episodes)
+            print(f"| {label} | {parts_cells(parts)} |")
     for label, row in (
         ("highest return", best(rows, False)),
         ("within the marks", best(rows, True)),

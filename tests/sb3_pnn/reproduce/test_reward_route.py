@@ -24,14 +24,22 @@ def test_a_wider_detour_earns_more_return_and_keeps_a_wider_route(tmp_path, caps
     earns more, at a wider route."""
     pid_baseline_run(tmp_path)
     argv = [str(tmp_path), "--agents", "--clearances", "2.5", "10", "--triggers", "18"]
-    assert main([*argv, "--episodes", "3"]) == 0
+    assert main([*argv, "--episodes", "3", "--parts"]) == 0
     out = capsys.readouterr().out
-    rows = _rows(out)
+    measured, parts = out.split("the return's terms")
+    rows, terms = _rows(measured), _rows(parts)
     tight, wide = rows[2.5], rows[10.0]
     assert tight[0] == wide[0] == "100 %"
     assert float(wide[1]) > float(tight[1]) + 50  # return
     assert float(wide[3]) > float(tight[3])  # mean abs(g)
     assert "highest return: clearance 10 m, trigger 18 m" in out
+    for clearance in (2.5, 10.0):  # the terms add up to the return of the same episodes
+        r_c, r_v, terminal = (float(v) for v in terms[clearance][:3])
+        assert r_c + r_v + terminal == pytest.approx(float(rows[clearance][1]), abs=0.15)
+        assert terminal == 200.0  # every episode ends with the success bonus
+    # the wide detour spends fewer steps in eq. 20's zone and pays less of its charge
+    assert float(terms[10.0][4]) < float(terms[2.5][4])
+    assert float(terms[10.0][1]) > float(terms[2.5][1])
 
 
 def test_best_needs_success_and_the_marks() -> None:
