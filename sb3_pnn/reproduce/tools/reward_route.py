@@ -45,7 +45,7 @@ import numpy as np
 import torch as th
 
 from sb3_pnn.baselines.adaptive_pid import AdaptivePIDController
-from sb3_pnn.common.checks import positive_int
+from sb3_pnn.common.checks import float_in, positive_int
 from sb3_pnn.dsac.dsac import PAPER_GAMMA
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.evaluation.evaluate import DEFAULT_START_NOISE
@@ -171,15 +171,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--clearances", type=float, nargs="+", default=list(DEFAULT_CLEARANCES))
     parser.add_argument("--triggers", type=float, nargs="+", default=list(DEFAULT_TRIGGERS))
     parser.add_argument("--episodes", type=positive_int("--episodes"), default=50)
-    parser.add_argument("--gamma", type=float, default=PAPER_GAMMA)
+    parser.add_argument(
+        "--gamma", type=float_in("--gamma", 0.0, 1.0, "a discount"), default=PAPER_GAMMA
+    )
     parser.add_argument(
         "--parts", action="store_true", help="also split each return into its reward terms"
     )
     args = parser.parse_args(argv)
     positive_floats(parser, "--clearances", args.clearances)
     positive_floats(parser, "--triggers", args.triggers)
-    if not 0.0 < args.gamma <= 1.0:
-        parser.error(f"--gamma {args.gamma} is not allowed: expected a discount in (0, 1]")
     th.set_num_threads(1)
     base = args.study / "runs" / f"adaptive_pid-{args.path}"
     if not base.is_dir():

@@ -59,7 +59,7 @@ def test_best_needs_success_and_the_marks() -> None:
     [
         (["--clearances", "2.5", "0"], "--clearances [2.5, 0.0] is not allowed"),
         (["--triggers", "-1"], "--triggers [-1.0] is not allowed"),
-        (["--gamma", "1.5"], "--gamma 1.5 is not allowed"),
+        (["--gamma", "1.5"], "--gamma must be a number in (0, 1] (a discount), got '1.5'"),
     ],
 )
 def test_bad_options_are_refused_by_name(tmp_path, capsys, argv, message) -> None:
