@@ -31,6 +31,13 @@ from the start state. With r_c paid in proportion to progress (``progress_weight
 undiscounted return pays a path follower the same for the path whatever its pace, so a check
 that creeps along the path by alternating turns can outrank one that follows it as closely at
 full speed; discounting charges for the pace.
+
+With a ``route_bound`` (metres), of the checks of equal success (and drawn success) those whose
+mean abs(g) is within the bound rank above those that leave it, and the ranking above decides
+within each group: the kept policy is the best by return of those that keep the route within
+the bound, and the best by return overall when none does. Eq. 20 pays for detours wider than a
+user may want (docs/ablation section 100); the bound states the route wanted, and the return
+still chooses among the routes that keep it.
 """
 
 from __future__ import annotations
@@ -39,6 +46,8 @@ import copy
 from typing import Any
 
 from stable_baselines3.common.callbacks import BaseCallback
+
+from sb3_pnn.common.checks import is_finite_number
 
 #: First validation seed: apart from the training seeds (0..) and the study's evaluation seeds
 #: (10000..).
@@ -76,23 +85,43 @@ def ranked_entry(rank_by: str) -> str:
     return _RANKED_ENTRY[checked_ranking(rank_by)][0]
 
 
-def validation_rank(check: dict[str, Any], rank_by: str = "return") -> tuple[float, ...]:
+def checked_route_bound(route_bound: Any) -> float | None:
+    """``route_bound`` as a float if it is a finite number > 0 (metres), None if None, else a
+    ValueError naming it."""
+    if route_bound is None:
+        return None
+    if not is_finite_number(route_bound) or route_bound <= 0:
+        raise ValueError(
+            f"route_bound={route_bound!r} is not allowed: expected a mean abs(g) in metres > 0, "
+            "or None for no bound"
+        )
+    return float(route_bound)
+
+
+def validation_rank(
+    check: dict[str, Any], rank_by: str = "return", route_bound: float | None = None
+) -> tuple[float, ...]:
     """How checks are ranked (a later check is kept only when it ranks strictly higher):
-    success rate, then (when the check ran them) the success among drawn obstacles, then mean
+    success rate, then (when the check ran them) the success among drawn obstacles, then (with
+    a ``route_bound``) whether its mean abs(g) is within the bound, then mean
     return (``rank_by="return"``), minus mean abs(g) (``"route"``), minus the mean time to the
     target (``"time"``; a check without a success ranks last) or the mean discounted return
     (``"discounted"``), of one ``history`` entry of
     :class:`KeepBestOnValidation`."""
     key, sign = _RANKED_ENTRY[checked_ranking(rank_by)]
+    route_bound = checked_route_bound(route_bound)
     if key not in check:
         raise ValueError(
             f"validation check {check!r} has no {key!r}: ranking by {rank_by} needs checks "
             "that recorded it"
         )
     last = -float("inf") if check[key] is None else sign * float(check[key])
+    rank: tuple[float, ...] = (float(check["success_rate"]),)
     if "drawn_success_rate" in check:
-        return (float(check["success_rate"]), float(check["drawn_success_rate"]), last)
-    return (float(check["success_rate"]), last)
+        rank += (float(check["drawn_success_rate"]),)
+    if route_bound is not None:
+        rank += (float(float(check["mean_abs_cross_track"]) <= route_bound),)
+    return rank + (last,)
 
 
 class KeepBestOnValidation(BaseCallback):
@@ -111,6 +140,8 @@ class KeepBestOnValidation(BaseCallback):
         drawn_layout: their obstacle generator (:mod:`rov_envs.sim.layouts`).
         drawn_seed: their first seed.
         rank_by: what ranks checks of equal success (:data:`RANKINGS`; :func:`validation_rank`).
+        route_bound: mean abs(g) in metres within which a check ranks above checks of equal
+            success that leave it (None, the default: no bound; see the module).
     """
 
     def __init__(
@@ -125,6 +156,7 @@ class KeepBestOnValidation(BaseCallback):
         drawn_layout: str = DRAWN_VALIDATION_LAYOUT,
         drawn_seed: int = DRAWN_VALIDATION_SEED,
         rank_by: str = "return",
+        route_bound: float | None = None,
     ) -> None:
         super().__init__(verbose=0)
         for name, value, least in (
@@ -151,6 +183,7 @@ class KeepBestOnValidation(BaseCallback):
         self.drawn_layout = str(drawn_layout)
         self.drawn_seed = int(drawn_seed)
         self.rank_by = checked_ranking(rank_by)
+        self.route_bound = checked_route_bound(route_bound)
         self.episodes = 0
         #: One entry per check: {"episode", "success_rate", "mean_return",
         #: "mean_abs_cross_track", "mean_abs_heading_error", "mean_time_to_target"} and, with
@@ -210,7 +243,7 @@ class KeepBestOnValidation(BaseCallback):
             )
             entry["drawn_success_rate"] = drawn.success_rate
         self.history.append(entry)
-        key = validation_rank(entry, self.rank_by)
+        key = validation_rank(entry, self.rank_by, self.route_bound)
         if self._best_key is None or key > self._best_key:
             self._best_key = key
             self.best_episode = self.episodes
@@ -240,4 +273,6 @@ class KeepBestOnValidation(BaseCallback):
             )
         if self.rank_by != "return":
             data["rank_by"] = self.rank_by
+        if self.route_bound is not None:
+            data["route_bound"] = self.route_bound
         return data

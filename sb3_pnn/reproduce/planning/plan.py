@@ -218,8 +218,8 @@ class RunSpec:
     trace_episodes: int = 0
     sac_kwargs: dict[str, Any] = field(default_factory=dict)
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # the training environment's
-    # {"every": N, "episodes": K[, "drawn_episodes": D][, "rank_by": "route"]}: keep the best
-    # policy on validation episodes (empty: the last)
+    # {"every": N, "episodes": K[, "drawn_episodes": D][, "rank_by": "route"][, "route_bound": B]}:
+    # keep the best policy on validation episodes (empty: the last)
     validation: dict[str, int | str] = field(default_factory=dict)
     # {"switch_memory": H, "no_reversal": True}: evaluate the trained SPNN through SwitchMemory
     # and / or NoReversal (empty: as trained)

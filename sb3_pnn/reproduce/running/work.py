@@ -99,6 +99,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
             env_kwargs=env_kwargs,
             drawn_episodes=int(spec.validation.get("drawn_episodes", 0)),
             rank_by=str(spec.validation.get("rank_by", "return")),
+            route_bound=spec.validation.get("route_bound"),
         )
         callbacks.append(keeper)
     start = time.time()

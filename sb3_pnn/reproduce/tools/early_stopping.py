@@ -70,7 +70,8 @@ def stopped_run(run_dir: Path, patience: int) -> dict[str, Any] | None:
     record, lengths = _read_json(validation), _read_json(episodes)
     try:
         history, lengths = record["history"], lengths["lengths"]
-        keys = [validation_rank(check, record.get("rank_by", "return")) for check in history]
+        rank_by, bound = record.get("rank_by", "return"), record.get("route_bound")
+        keys = [validation_rank(check, rank_by, bound) for check in history]
         episodes_of = [int(check["episode"]) for check in history]
         full = episodes_of.index(record["best_episode"]) if history else None
     except (KeyError, TypeError, ValueError) as error:

@@ -198,7 +198,7 @@ def test_keep_best_drawn_reaches_the_learners_only() -> None:
     setup = OURS.with_(keep_best_drawn=30)
     assert setup.validation() == OURS.validation()  # the source columns: unchanged
     assert setup.validation(learner=True)["drawn_episodes"] == 30
-    assert OURS.validation(learner=True) == OURS.validation()  # default: the study's hashes
+    assert "drawn_episodes" not in OURS.validation(learner=True)  # off by default
     plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_drawn", 30),)))
     for spec in plan:
         drawn = spec.validation.get("drawn_episodes")
@@ -247,6 +247,67 @@ def test_route_ranking_refuses_bad_values_and_records_without_the_route() -> Non
     check = {"success_rate": 1.0, "mean_return": 3.0, "mean_abs_cross_track": 2.0}
     assert validation_rank(check, "route") == (1.0, -2.0)
     assert validation_rank({**check, "drawn_success_rate": 0.5}, "route") == (1.0, 0.5, -2.0)
+
+
+def test_route_bound_keeps_the_best_return_among_the_checks_within_it(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g)) of five checks
+    own = [(1.0, 90.0, 3.0), (1.0, 40.0, 1.2), (1.0, 60.0, 1.9), (0.9, 99.0, 0.5)]
+    own.append((1.0, 50.0, 1.0))
+    results = iter(own)
+    monkeypatch.setattr(
+        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(results))
+    )
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, route_bound=2.0)
+    keeper.init_callback(model)
+    snapshots = _checks_of_changing_weights(keeper, model, len(own))
+    # check 3 earns the most of the 100 % checks within 2 m: check 1 earns more on a 3 m route,
+    # check 4 is closer and earns more but fails an episode, check 5 is closer but earns less
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[2])
+    record = keeper.to_dict()
+    assert record["route_bound"] == 2.0 and record["best_episode"] == 3
+    assert "rank_by" not in record  # the return still ranks within the bound
+    # without the bound check 1 is kept; by route alone check 5, whatever it earns
+    assert max(record["history"], key=validation_rank)["episode"] == 1
+    assert max(record["history"], key=lambda c: validation_rank(c, "route"))["episode"] == 5
+    assert "route_bound" not in KeepBestOnValidation(ENV).to_dict()  # the default's record
+
+
+def test_route_bound_falls_back_to_the_ranking_when_no_check_keeps_it() -> None:
+    wide = {"success_rate": 1.0, "mean_return": 80.0, "mean_abs_cross_track": 3.0}
+    wider = {"success_rate": 1.0, "mean_return": 70.0, "mean_abs_cross_track": 4.0}
+    assert validation_rank(wide, route_bound=2.0) == (1.0, 0.0, 80.0)
+    assert validation_rank(wide, route_bound=2.0) > validation_rank(wider, route_bound=2.0)
+    # the bound ranks below the drawn success and above the return
+    drawn = {**wide, "drawn_success_rate": 0.5}
+    assert validation_rank(drawn, route_bound=3.0) == (1.0, 0.5, 1.0, 80.0)
+    for bad in (0, -1.0, float("nan"), True, "2"):
+        with pytest.raises(ValueError, match=r"route_bound=.* is not allowed: expected a mean"):
+            KeepBestOnValidation(ENV, route_bound=bad)
+        with pytest.raises(ValueError, match=r"route_bound=.* is not allowed"):
+            validation_rank(wide, route_bound=bad)
+
+
+def test_keep_best_route_bound_reaches_the_learners_only() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+    from sb3_pnn.reproduce.planning.setups import parse_setup_changes
+
+    assert OURS.keep_best_route_bound == 2.0  # the study's default (docs/ablation section 101)
+    setup = OURS.with_(keep_best_route_bound=None)
+    assert setup.validation() == OURS.validation()  # the source columns: unchanged
+    assert OURS.validation(learner=True)["route_bound"] == 2.0
+    assert "route_bound" not in setup.validation(learner=True)  # off: the checks as before
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_route_bound", 3.0),)))
+    for spec in plan:
+        bound = spec.validation.get("route_bound")
+        assert bound == (3.0 if spec.kind == "transfer" else None), spec.run_id
+    assert parse_setup_changes(["keep_best_route_bound=2"]) == {"keep_best_route_bound": 2.0}
+    assert parse_setup_changes(["keep_best_route_bound=null"]) == {"keep_best_route_bound": None}
+    # without keep_best nothing is checked, so the bound changes no run (the ablation's cell
+    # that puts keep_best back keeps the default bound)
+    assert OURS.with_(keep_best=False).validation(learner=True) == {}
+    with pytest.raises(ValueError, match=r"keep_best_route_bound=-1.0 is not allowed: expected"):
+        OURS.with_(keep_best_route_bound=-1.0)
 
 
 def test_time_ranking_keeps_the_fastest_crossing_among_the_best_successes(monkeypatch) -> None:

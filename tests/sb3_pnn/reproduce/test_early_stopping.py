@@ -118,3 +118,23 @@ def test_bad_patience_and_a_corrupt_record_are_refused_by_name(tmp_path: Path, c
     with pytest.raises(SystemExit):
         main([str(study)])
     assert "another shape" in capsys.readouterr().err
+
+
+def test_a_record_with_a_route_bound_is_ranked_by_it(tmp_path: Path) -> None:
+    run = tmp_path / "runs" / "pnn-sine-s0"
+    run.mkdir(parents=True)
+    # (success, return, mean abs(g)): with the 2 m bound the callback keeps check 2 (within 2 m)
+    checks = [(1.0, 90.0, 3.0), (1.0, 60.0, 1.5), (1.0, 95.0, 2.5)]
+    history = [
+        {"episode": 25 * (i + 1), "success_rate": s, "mean_return": r, "mean_abs_cross_track": g}
+        for i, (s, r, g) in enumerate(checks)
+    ]
+    record = {"history": history, "best_episode": 50, "route_bound": 2.0}
+    (run / "validation.json").write_text(json.dumps(record))
+    (run / "episodes.json").write_text(json.dumps({"lengths": [10] * 75}))
+    # without a stop the bounded ranking keeps the run's own check; by return alone (the
+    # record read without its bound) check 3 would be kept instead
+    assert stopped_run(run, 5)["same_check"]
+    record.pop("route_bound")
+    (run / "validation.json").write_text(json.dumps(record))
+    assert not stopped_run(run, 5)["same_check"]
