@@ -198,7 +198,7 @@ def test_keep_best_drawn_reaches_the_learners_only() -> None:
     setup = OURS.with_(keep_best_drawn=30)
     assert setup.validation() == OURS.validation()  # the source columns: unchanged
     assert setup.validation(learner=True)["drawn_episodes"] == 30
-    assert "drawn_episodes" not in OURS.validation(learner=True)  # off by default
+    assert OURS.validation(learner=True) == OURS.validation()  # default: the study's hashes
     plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_drawn", 30),)))
     for spec in plan:
         drawn = spec.validation.get("drawn_episodes")
@@ -292,11 +292,11 @@ def test_keep_best_route_bound_reaches_the_learners_only() -> None:
     from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
     from sb3_pnn.reproduce.planning.setups import parse_setup_changes
 
-    assert OURS.keep_best_route_bound == 2.0  # the study's default (docs/ablation section 101)
-    setup = OURS.with_(keep_best_route_bound=None)
+    assert OURS.keep_best_route_bound is None  # not the default (docs/ablation section 101)
+    setup = OURS.with_(keep_best_route_bound=2.0)
     assert setup.validation() == OURS.validation()  # the source columns: unchanged
-    assert OURS.validation(learner=True)["route_bound"] == 2.0
-    assert "route_bound" not in setup.validation(learner=True)  # off: the checks as before
+    assert setup.validation(learner=True)["route_bound"] == 2.0
+    assert "route_bound" not in OURS.validation(learner=True)  # off: the study's hashes
     plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_route_bound", 3.0),)))
     for spec in plan:
         bound = spec.validation.get("route_bound")
@@ -305,7 +305,7 @@ def test_keep_best_route_bound_reaches_the_learners_only() -> None:
     assert parse_setup_changes(["keep_best_route_bound=null"]) == {"keep_best_route_bound": None}
     # without keep_best nothing is checked, so the bound changes no run (the ablation's cell
     # that puts keep_best back keeps the default bound)
-    assert OURS.with_(keep_best=False).validation(learner=True) == {}
+    assert setup.with_(keep_best=False).validation(learner=True) == {}
     with pytest.raises(ValueError, match=r"keep_best_route_bound=-1.0 is not allowed: expected"):
         OURS.with_(keep_best_route_bound=-1.0)
 
