@@ -335,6 +335,9 @@ Factors:
   changes nothing. Ours: none. 2.0 m, the route mark of the planning tasks, brings the sine
   routes 13-19 % closer on seeds 0-4 at a level drawn-field success, but on fresh seeds 5-9 one
   straight run loses 40 points of drawn fields (docs/ablation section 101).
+  ``keep_best_route_bound_sine`` gives the sine path's runs a bound of their own (None:
+  ``keep_best_route_bound``'s), as on the path whose planning route misses the mark
+  (docs/ablation section 102).
 * ``prior_keep_best_by``: what ranks the source columns' validation checks of equal success:
   ``"return"`` (ours) or ``"discounted"``, the larger mean discounted return sum_t gamma^t r_t,
   what SAC maximises (the other rankings of ``keep_best_by`` are taken too). With r_c paid in
@@ -462,6 +465,7 @@ class TrainingSetup:
     keep_best_drawn: int = 0
     keep_best_by: str = "return"
     keep_best_route_bound: float | None = None
+    keep_best_route_bound_sine: float | None = None
     prior_keep_best_by: str = "return"
     prior_keep_best_by_pf_straight: str | None = None
     pnn_lateral_init: float = 1.0
@@ -615,12 +619,16 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed with keep_best off: it ranks the "
                     "validation checks (keep_best=true)"
                 )
-        bound = self.keep_best_route_bound
-        if bound is not None and not (is_finite_number(bound) and bound > 0):
-            raise ValueError(
-                f"keep_best_route_bound={bound!r} is not allowed: expected a mean abs(g) in "
-                "metres > 0, or None for no bound"
-            )
+        for name, meaning in (
+            ("keep_best_route_bound", "no bound"),
+            ("keep_best_route_bound_sine", "keep_best_route_bound's"),
+        ):
+            bound = getattr(self, name)
+            if bound is not None and not (is_finite_number(bound) and bound > 0):
+                raise ValueError(
+                    f"{name}={bound!r} is not allowed: expected a mean abs(g) in metres > 0, "
+                    f"or None for {meaning}"
+                )
         if self.keep_best_drawn and not self.keep_best:
             raise ValueError(
                 f"keep_best_drawn={self.keep_best_drawn} is not allowed with keep_best off: "
@@ -1241,10 +1249,13 @@ class TrainingSetup:
         path-following column where that is set."""
         return str(self._for_column("prior_keep_best_by", column))
 
-    def validation(self, learner: bool = False, column: str = "") -> dict[str, int | str]:
+    def validation(
+        self, learner: bool = False, column: str = "", path: str = ""
+    ) -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
-        and rank by ``keep_best_by``, source column ``column``'s by :meth:`column_keep_best_by`
+        and rank by ``keep_best_by`` within the route bound of its planning path ``path``
+        (:meth:`route_bound_of`), source column ``column``'s by :meth:`column_keep_best_by`
         (named only when it is not the return, so that the specs of runs ranked by return keep
         their hash); a source column's add ``retries`` where ``prior_retries`` is not 0; the
         path-following columns check every ``pf_validation_every`` episodes."""
@@ -1257,11 +1268,17 @@ class TrainingSetup:
         rank_by = self.keep_best_by if learner else self.column_keep_best_by(column)
         if rank_by != "return":
             checks["rank_by"] = rank_by
-        if learner and self.keep_best_route_bound is not None:
-            checks["route_bound"] = float(self.keep_best_route_bound)
+        bound = self.route_bound_of(path) if learner else None
+        if bound is not None:
+            checks["route_bound"] = float(bound)
         if not learner and self.prior_retries:
             checks["retries"] = self.prior_retries
         return checks
+
+    def route_bound_of(self, path: str) -> float | None:
+        """The learners' route bound on planning path ``path`` (``keep_best_route_bound_sine``
+        on the sine path when set, else ``keep_best_route_bound``; None: no bound)."""
+        return self._on_sine_path("keep_best_route_bound_sine", self.keep_best_route_bound, path)
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
@@ -1334,6 +1351,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "spnn_clear_kl_sine",
     "pnn_obstacle_kl_sine",
     "spnn_obstacle_kl_sine",
+    "keep_best_route_bound_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1441,6 +1459,7 @@ FACTOR_LABELS: dict[str, str] = {
     "keep_best_drawn": "learners' checks also among drawn obstacles (episodes)",
     "keep_best_by": "learners' checks of equal success ranked by",
     "keep_best_route_bound": "learners' checks within this mean abs(g) (m) ranked first",
+    "keep_best_route_bound_sine": "the same on the sine path",
     "prior_keep_best_by": "source columns' checks of equal success ranked by",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",

@@ -310,6 +310,34 @@ def test_keep_best_route_bound_reaches_the_learners_only() -> None:
         OURS.with_(keep_best_route_bound=-1.0)
 
 
+def test_keep_best_route_bound_sine_bounds_the_sine_runs_alone() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+    from sb3_pnn.reproduce.planning.setups import parse_setup_changes
+
+    setup = OURS.with_(keep_best_route_bound_sine=2.0)
+    assert setup.validation(learner=True, path="sine")["route_bound"] == 2.0
+    assert "route_bound" not in setup.validation(learner=True, path="straight")
+    assert setup.validation(column="oa") == OURS.validation(column="oa")  # columns unchanged
+    with pytest.raises(ValueError, match=r"keep_best_route_bound_sine=2.0 depends on the path"):
+        setup.validation(learner=True)
+    # None takes keep_best_route_bound's on the sine path; a sine bound of its own replaces it
+    both = OURS.with_(keep_best_route_bound=3.0)
+    assert both.validation(learner=True, path="sine")["route_bound"] == 3.0
+    assert both.with_(keep_best_route_bound_sine=2.0).route_bound_of("sine") == 2.0
+    assert both.with_(keep_best_route_bound_sine=2.0).route_bound_of("straight") == 3.0
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_route_bound_sine", 2.0),)))
+    default = {spec.run_id: spec.config_hash() for spec in build_plan(StudyConfig(seeds=1))}
+    for spec in plan:
+        bounded = spec.kind == "transfer" and spec.path == "sine"
+        assert spec.validation.get("route_bound") == (2.0 if bounded else None), spec.run_id
+        assert (spec.config_hash() != default[spec.run_id]) == bounded, spec.run_id
+    changes = parse_setup_changes(["keep_best_route_bound_sine=2"])
+    assert changes == {"keep_best_route_bound_sine": 2.0}
+    for bad in (0.0, -1.0, float("nan"), "wide"):
+        with pytest.raises(ValueError, match=r"keep_best_route_bound_sine=.* is not allowed"):
+            OURS.with_(keep_best_route_bound_sine=bad)
+
+
 def test_time_ranking_keeps_the_fastest_crossing_among_the_best_successes(monkeypatch) -> None:
     # own-task (success, return, mean abs(g), mean time to the target) of four checks
     own = [(1.0, 50.0, 1.0, 260.0), (1.0, 10.0, 2.0, 240.0), (0.9, 90.0, 0.5, 200.0)]
