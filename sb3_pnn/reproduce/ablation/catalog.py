@@ -347,7 +347,7 @@ def build_ablation_plan(config: AblationConfig) -> list[RunSpec]:
                         **setup.train_env_kwargs(env_id),
                         **setup.agent_env_kwargs(agent, path),
                     },
-                    validation=setup.validation(learner=True, path=path),
+                    validation=setup.validation(learner=True, path=path, agent=agent),
                 )
     plan = list(runs.values())
     # priors first (a run's deps always come earlier), then seed by seed

@@ -393,7 +393,7 @@ def build_plan(config: StudyConfig) -> list[RunSpec]:
                         trace_episodes=budget.trace_episodes,
                         sac_kwargs=setup.sac_kwargs(agent=agent, path=path),
                         env_kwargs={**setup.train_env_kwargs(PLANNING_ENVS[path]), **own_env},
-                        validation=setup.validation(learner=True, path=path),
+                        validation=setup.validation(learner=True, path=path, agent=agent),
                         play=play_of(setup, agent, path),
                     )
                 )

@@ -464,6 +464,7 @@ class TrainingSetup:
     keep_best: bool = False
     keep_best_drawn: int = 0
     keep_best_by: str = "return"
+    spnn_keep_best_by_sine: str | None = None
     keep_best_route_bound: float | None = None
     keep_best_route_bound_sine: float | None = None
     prior_keep_best_by: str = "return"
@@ -601,18 +602,18 @@ class TrainingSetup:
                     f"{name}={value} is not allowed with keep_best off: the best candidate is "
                     "chosen on its validation checks (keep_best=true)"
                 )
-        for name in ("keep_best_by", "prior_keep_best_by", "prior_keep_best_by_pf_straight"):
+        optional = {
+            "prior_keep_best_by_pf_straight": "prior_keep_best_by's",
+            "spnn_keep_best_by_sine": "keep_best_by's",
+        }
+        for name in ("keep_best_by", "prior_keep_best_by", *optional):
             value = getattr(self, name)
-            if value is None and name == "prior_keep_best_by_pf_straight":
+            if value is None and name in optional:
                 continue
             if value not in RANKINGS:
                 raise ValueError(
                     f"{name}={value!r} is not allowed: expected one of {list(RANKINGS)}"
-                    + (
-                        " (or None for prior_keep_best_by's)"
-                        if name.endswith("_pf_straight")
-                        else ""
-                    )
+                    + (f" (or None for {optional[name]})" if name in optional else "")
                 )
             if value != "return" and not self.keep_best:
                 raise ValueError(
@@ -1249,12 +1250,26 @@ class TrainingSetup:
         path-following column where that is set."""
         return str(self._for_column("prior_keep_best_by", column))
 
+    def learner_keep_best_by(self, agent: str, path: str) -> str:
+        """What ranks learner ``agent``'s checks on planning path ``path``:
+        ``spnn_keep_best_by_sine`` for SPNN's sine runs where that is set, else ``keep_best_by``."""
+        sine = self.spnn_keep_best_by_sine
+        if sine is not None and sine != self.keep_best_by and not agent:
+            raise ValueError(
+                f"spnn_keep_best_by_sine={sine!r} depends on the agent: expected a learner's "
+                "name (agent='spnn', 'pnn', ...)"
+            )
+        if agent != "spnn":
+            return self.keep_best_by
+        return str(self._on_sine_path("spnn_keep_best_by_sine", self.keep_best_by, path))
+
     def validation(
-        self, learner: bool = False, column: str = "", path: str = ""
+        self, learner: bool = False, column: str = "", path: str = "", agent: str = ""
     ) -> dict[str, int | str]:
         """How often and on how many episodes a run validates (empty: it keeps the last policy);
         a learner's (``learner``) checks add ``keep_best_drawn`` episodes among drawn obstacles
-        and rank by ``keep_best_by`` within the route bound of its planning path ``path``
+        and rank by :meth:`learner_keep_best_by` of its ``agent`` within the route bound of its
+        planning path ``path``
         (:meth:`route_bound_of`), source column ``column``'s by :meth:`column_keep_best_by`
         (named only when it is not the return, so that the specs of runs ranked by return keep
         their hash); a source column's add ``retries`` where ``prior_retries`` is not 0; the
@@ -1265,7 +1280,9 @@ class TrainingSetup:
         checks: dict[str, int | str] = {"every": every, "episodes": VALIDATION_EPISODES}
         if learner and self.keep_best_drawn:
             checks["drawn_episodes"] = self.keep_best_drawn
-        rank_by = self.keep_best_by if learner else self.column_keep_best_by(column)
+        rank_by = (
+            self.learner_keep_best_by(agent, path) if learner else self.column_keep_best_by(column)
+        )
         if rank_by != "return":
             checks["rank_by"] = rank_by
         bound = self.route_bound_of(path) if learner else None
@@ -1352,6 +1369,7 @@ SINE_PATH_FACTORS: tuple[str, ...] = (
     "pnn_obstacle_kl_sine",
     "spnn_obstacle_kl_sine",
     "keep_best_route_bound_sine",
+    "spnn_keep_best_by_sine",
 )
 
 #: Factors that one agent's policy reads: factor -> (agent, policy keyword argument), each
@@ -1458,6 +1476,7 @@ FACTOR_LABELS: dict[str, str] = {
     "keep_best": "best policy on validation episodes kept",
     "keep_best_drawn": "learners' checks also among drawn obstacles (episodes)",
     "keep_best_by": "learners' checks of equal success ranked by",
+    "spnn_keep_best_by_sine": "the same for SPNN's sine runs",
     "keep_best_route_bound": "learners' checks within this mean abs(g) (m) ranked first",
     "keep_best_route_bound_sine": "the same on the sine path",
     "prior_keep_best_by": "source columns' checks of equal success ranked by",
@@ -1610,6 +1629,7 @@ def describe_value(name: str, value: Any) -> str:
 NAMED_REFINEMENTS: dict[str, str] = {
     "spnn_gate_sine": "soft (a gate's name, or null)",
     "prior_keep_best_by_pf_straight": "discounted (a ranking, or null)",
+    "spnn_keep_best_by_sine": "last (a ranking, or null)",
     "planning_progress_along": "course (path or course, or null)",
 }
 #: Factors that refine another with on / off (None: the refined factor's), and an example.

@@ -338,6 +338,55 @@ def test_keep_best_route_bound_sine_bounds_the_sine_runs_alone() -> None:
             OURS.with_(keep_best_route_bound_sine=bad)
 
 
+def test_last_ranking_keeps_the_latest_check_whatever_its_success(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g)): the last check fails episodes and earns least
+    own = [(1.0, 90.0, 3.0), (1.0, 60.0, 1.5), (0.8, 10.0, 1.0)]
+    results = iter(own)
+    monkeypatch.setattr(
+        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(results))
+    )
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, rank_by="last", route_bound=2.0)
+    keeper.init_callback(model)
+    snapshots = _checks_of_changing_weights(keeper, model, len(own))
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[2])
+    record = keeper.to_dict()
+    assert record["rank_by"] == "last" and record["best_episode"] == 3
+    assert validation_rank(record["history"][0], "last") == (1.0,)
+    assert max(record["history"], key=validation_rank)["episode"] == 1  # by return: the first
+
+
+def test_spnn_keep_best_by_sine_ranks_spnns_sine_runs_alone() -> None:
+    from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
+    from sb3_pnn.reproduce.planning.setups import parse_setup_changes
+
+    assert OURS.spnn_keep_best_by_sine is None  # not the default
+    setup = OURS.with_(spnn_keep_best_by_sine="last")
+    assert setup.validation(learner=True, path="sine", agent="spnn")["rank_by"] == "last"
+    for agent, path in (("spnn", "straight"), ("pnn", "sine"), ("sac_multi", "sine")):
+        assert "rank_by" not in setup.validation(learner=True, path=path, agent=agent)
+    assert setup.validation(column="oa") == OURS.validation(column="oa")  # columns unchanged
+    with pytest.raises(ValueError, match=r"spnn_keep_best_by_sine='last' depends on the agent"):
+        setup.validation(learner=True, path="sine")
+    with pytest.raises(ValueError, match=r"spnn_keep_best_by_sine='last' depends on the path"):
+        setup.validation(learner=True, agent="spnn")
+    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("spnn_keep_best_by_sine", "last"),)))
+    default = {spec.run_id: spec.config_hash() for spec in build_plan(StudyConfig(seeds=1))}
+    changed = [spec.run_id for spec in plan if spec.config_hash() != default[spec.run_id]]
+    assert changed == ["spnn-sine-s0"]
+    assert parse_setup_changes(["spnn_keep_best_by_sine=last"]) == {
+        "spnn_keep_best_by_sine": "last"
+    }
+    with pytest.raises(
+        ValueError, match=r"spnn_keep_best_by_sine='final' is not allowed: expected"
+    ):
+        OURS.with_(spnn_keep_best_by_sine="final")
+    with pytest.raises(
+        ValueError, match=r"spnn_keep_best_by_sine='last' is not allowed with keep_"
+    ):
+        OURS.with_(spnn_keep_best_by_sine="last", keep_best=False)
+
+
 def test_time_ranking_keeps_the_fastest_crossing_among_the_best_successes(monkeypatch) -> None:
     # own-task (success, return, mean abs(g), mean time to the target) of four checks
     own = [(1.0, 50.0, 1.0, 260.0), (1.0, 10.0, 2.0, 240.0), (0.9, 90.0, 0.5, 200.0)]
