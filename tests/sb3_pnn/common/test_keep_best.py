@@ -360,18 +360,21 @@ def test_spnn_keep_best_by_sine_ranks_spnns_sine_runs_alone() -> None:
     from sb3_pnn.reproduce.planning.plan import StudyConfig, build_plan
     from sb3_pnn.reproduce.planning.setups import parse_setup_changes
 
-    assert OURS.spnn_keep_best_by_sine is None  # not the default
+    assert OURS.spnn_keep_best_by_sine == "last"  # the default (docs/ablation section 103)
     setup = OURS.with_(spnn_keep_best_by_sine="last")
     assert setup.validation(learner=True, path="sine", agent="spnn")["rank_by"] == "last"
     for agent, path in (("spnn", "straight"), ("pnn", "sine"), ("sac_multi", "sine")):
         assert "rank_by" not in setup.validation(learner=True, path=path, agent=agent)
     assert setup.validation(column="oa") == OURS.validation(column="oa")  # columns unchanged
-    with pytest.raises(ValueError, match=r"spnn_keep_best_by_sine='last' depends on the agent"):
-        setup.validation(learner=True, path="sine")
+    assert "rank_by" not in setup.validation(learner=True, path="sine")  # no agent named
     with pytest.raises(ValueError, match=r"spnn_keep_best_by_sine='last' depends on the path"):
         setup.validation(learner=True, agent="spnn")
-    plan = build_plan(StudyConfig(seeds=1, setup_changes=(("spnn_keep_best_by_sine", "last"),)))
-    default = {spec.run_id: spec.config_hash() for spec in build_plan(StudyConfig(seeds=1))}
+    plan = build_plan(StudyConfig(seeds=1))
+    by_return = (("spnn_keep_best_by_sine", "return"),)
+    default = {
+        spec.run_id: spec.config_hash()
+        for spec in build_plan(StudyConfig(seeds=1, setup_changes=by_return))
+    }
     changed = [spec.run_id for spec in plan if spec.config_hash() != default[spec.run_id]]
     assert changed == ["spnn-sine-s0"]
     assert parse_setup_changes(["spnn_keep_best_by_sine=last"]) == {
@@ -381,10 +384,9 @@ def test_spnn_keep_best_by_sine_ranks_spnns_sine_runs_alone() -> None:
         ValueError, match=r"spnn_keep_best_by_sine='final' is not allowed: expected"
     ):
         OURS.with_(spnn_keep_best_by_sine="final")
-    with pytest.raises(
-        ValueError, match=r"spnn_keep_best_by_sine='last' is not allowed with keep_"
-    ):
-        OURS.with_(spnn_keep_best_by_sine="last", keep_best=False)
+    # without checks every run keeps its last policy, so the factor changes nothing there
+    assert OURS.with_(keep_best=False).validation(learner=True, path="sine", agent="spnn") == {}
+    assert PAPER.spnn_keep_best_by_sine is None
 
 
 def test_time_ranking_keeps_the_fastest_crossing_among_the_best_successes(monkeypatch) -> None:
@@ -463,7 +465,10 @@ def test_prior_keep_best_by_reaches_the_source_columns_only() -> None:
     default = {spec.run_id: spec for spec in build_plan(StudyConfig(seeds=1))}
     for spec in plan:
         ranking = spec.validation.get("rank_by")
-        assert ranking == ("discounted" if spec.kind == "prior" else None), spec.run_id
+        expected = "discounted" if spec.kind == "prior" else None
+        if spec.run_id.startswith("spnn-sine"):  # spnn_keep_best_by_sine's, the default
+            expected = "last"
+        assert ranking == expected, spec.run_id
         if spec.kind != "prior":  # the learners' own specs do not change
             assert spec.to_dict() == default[spec.run_id].to_dict(), spec.run_id
     with pytest.raises(ValueError, match="prior_keep_best_by='time' is not allowed with keep_best"):
@@ -482,7 +487,10 @@ def test_keep_best_by_reaches_the_learners_only() -> None:
     plan = build_plan(StudyConfig(seeds=1, setup_changes=(("keep_best_by", "route"),)))
     for spec in plan:
         ranking = spec.validation.get("rank_by")
-        assert ranking == ("route" if spec.kind == "transfer" else None), spec.run_id
+        expected = "route" if spec.kind == "transfer" else None
+        if spec.run_id.startswith("spnn-sine"):  # spnn_keep_best_by_sine's, the default
+            expected = "last"
+        assert ranking == expected, spec.run_id
     with pytest.raises(ValueError, match="keep_best_by='route' is not allowed with keep_best off"):
         PAPER.with_(keep_best_by="route")
     with pytest.raises(ValueError, match=r"keep_best_by='gap' is not allowed: expected one of"):
