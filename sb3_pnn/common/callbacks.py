@@ -43,11 +43,18 @@ With ``rank_by="last"`` every check outranks the ones before it, whatever its su
 policy kept is the last one, as without checks, with the checks still recorded. On the sine
 planning task SPNN's route narrows as it trains while its return peaks earlier, so the last
 policy keeps the route closer than the return-best one (docs/ablation section 103).
+
+With ``also_rank_by`` the callback keeps, beside the policy its own ranking chooses, the best
+policy by each further ranking (without a route bound), from the same checks of the same
+training: ``restore("route")`` puts the route-best one into the model, ``restore()`` the one
+``rank_by`` chose. Which ranking to keep can then be compared on one training run instead of
+one run per ranking; training and the policy ``rank_by`` keeps are the same as without it.
 """
 
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from typing import Any
 
 from stable_baselines3.common.callbacks import BaseCallback
@@ -151,6 +158,8 @@ class KeepBestOnValidation(BaseCallback):
         rank_by: what ranks checks of equal success (:data:`RANKINGS`; :func:`validation_rank`).
         route_bound: mean abs(g) in metres within which a check ranks above checks of equal
             success that leave it (None, the default: no bound; see the module).
+        also_rank_by: further rankings (:data:`RANKINGS`, no route bound), each keeping its own
+            best policy for :meth:`restore` (default: none).
     """
 
     def __init__(
@@ -166,6 +175,7 @@ class KeepBestOnValidation(BaseCallback):
         drawn_seed: int = DRAWN_VALIDATION_SEED,
         rank_by: str = "return",
         route_bound: float | None = None,
+        also_rank_by: Sequence[str] = (),
     ) -> None:
         super().__init__(verbose=0)
         for name, value, least in (
@@ -193,6 +203,14 @@ class KeepBestOnValidation(BaseCallback):
         self.drawn_seed = int(drawn_seed)
         self.rank_by = checked_ranking(rank_by)
         self.route_bound = checked_route_bound(route_bound)
+        if isinstance(also_rank_by, str) or not isinstance(also_rank_by, Sequence):
+            raise ValueError(
+                f"also_rank_by={also_rank_by!r} is not allowed: expected a sequence of rankings "
+                f"from {list(RANKINGS)}, e.g. ('route', 'last')"
+            )
+        self.also_rank_by = tuple(checked_ranking(ranking) for ranking in also_rank_by)
+        #: Per further ranking: (its rank of the check kept, that check's episode, its weights).
+        self._also_kept: dict[str, tuple[tuple[float, ...], int, dict[str, Any]]] = {}
         self.episodes = 0
         #: One entry per check: {"episode", "success_rate", "mean_return",
         #: "mean_abs_cross_track", "mean_abs_heading_error", "mean_time_to_target"} and, with
@@ -220,7 +238,8 @@ class KeepBestOnValidation(BaseCallback):
         from sb3_pnn.evaluation import evaluate_policy_on_task
 
         # the discount is asked for only when it ranks, so that other checks run as before
-        discount = {"discount": float(self.model.gamma)} if self.rank_by == "discounted" else {}
+        rankings = (self.rank_by, *self.also_rank_by)
+        discount = {"discount": float(self.model.gamma)} if "discounted" in rankings else {}
         result = evaluate_policy_on_task(
             self.model,
             self.env_id,
@@ -257,12 +276,29 @@ class KeepBestOnValidation(BaseCallback):
             self._best_key = key
             self.best_episode = self.episodes
             self._best_state = copy.deepcopy(self.model.policy.state_dict())
+        for ranking in self.also_rank_by:
+            key = validation_rank(entry, ranking)
+            kept = self._also_kept.get(ranking)
+            if kept is None or key > kept[0]:
+                state = copy.deepcopy(self.model.policy.state_dict())
+                self._also_kept[ranking] = (key, self.episodes, state)
 
-    def restore(self) -> bool:
-        """Load the best weights into the model; False (and nothing changed) if none was kept."""
-        if self._best_state is None:
+    def restore(self, ranking: str | None = None) -> bool:
+        """Load the best weights into the model: those ``rank_by`` chose, or with ``ranking``
+        (one of ``also_rank_by``) that ranking's best; False (and nothing changed) if none was
+        kept yet."""
+        if ranking is None:
+            state = self._best_state
+        elif ranking in self.also_rank_by:
+            state = self._also_kept[ranking][2] if ranking in self._also_kept else None
+        else:
+            raise ValueError(
+                f"ranking={ranking!r} is not allowed: this callback keeps a policy for "
+                f"{list(self.also_rank_by)} beside rank_by (ranking=None)"
+            )
+        if state is None:
             return False
-        self.model.policy.load_state_dict(self._best_state)
+        self.model.policy.load_state_dict(state)
         return True
 
     def to_dict(self) -> dict[str, Any]:
@@ -284,4 +320,9 @@ class KeepBestOnValidation(BaseCallback):
             data["rank_by"] = self.rank_by
         if self.route_bound is not None:
             data["route_bound"] = self.route_bound
+        if self.also_rank_by:
+            data["best_episode_by"] = {
+                ranking: self._also_kept[ranking][1] if ranking in self._also_kept else None
+                for ranking in self.also_rank_by
+            }
         return data

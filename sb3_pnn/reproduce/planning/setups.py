@@ -343,6 +343,12 @@ Factors:
   ``keep_best_route_bound_sine`` gives the sine path's runs a bound of their own (None:
   ``keep_best_route_bound``'s), as on the path whose planning route misses the mark
   (docs/ablation section 102).
+* ``keep_best_also``: further rankings of the learners' checks, comma-separated (``"route,last"``;
+  empty: none). Each keeps its own best policy of the same training beside the one kept, saved
+  in the run folder as ``model_by_<ranking>.zip`` (``model.zip`` stays the kept policy), so that
+  rankings are compared on one training per run (``tools.fresh_route --kept-by``,
+  ``tools.drawn_layouts --kept-by``). A measurement option: training and the kept policy are
+  unchanged. Ours: none.
 * ``prior_keep_best_by``: what ranks the source columns' validation checks of equal success:
   ``"return"`` (ours) or ``"discounted"``, the larger mean discounted return sum_t gamma^t r_t,
   what SAC maximises (the other rankings of ``keep_best_by`` are taken too). With r_c paid in
@@ -472,6 +478,7 @@ class TrainingSetup:
     spnn_keep_best_by_sine: str | None = None
     keep_best_route_bound: float | None = None
     keep_best_route_bound_sine: float | None = None
+    keep_best_also: str = ""
     prior_keep_best_by: str = "return"
     prior_keep_best_by_pf_straight: str | None = None
     pnn_lateral_init: float = 1.0
@@ -626,6 +633,12 @@ class TrainingSetup:
                     f"{name}={value!r} is not allowed with keep_best off: it ranks the "
                     "validation checks (keep_best=true)"
                 )
+        also = self.learner_keep_best_also()
+        if also and not self.keep_best:
+            raise ValueError(
+                f"keep_best_also={self.keep_best_also!r} is not allowed with keep_best off: it "
+                "ranks the validation checks (keep_best=true)"
+            )
         for name, meaning in (
             ("keep_best_route_bound", "no bound"),
             ("keep_best_route_bound_sine", "keep_best_route_bound's"),
@@ -1289,9 +1302,31 @@ class TrainingSetup:
         bound = self.route_bound_of(path) if learner else None
         if bound is not None:
             checks["route_bound"] = float(bound)
+        if learner and self.keep_best_also:
+            checks["also_rank_by"] = ",".join(self.learner_keep_best_also())
         if not learner and self.prior_retries:
             checks["retries"] = self.prior_retries
         return checks
+
+    def learner_keep_best_also(self) -> tuple[str, ...]:
+        """``keep_best_also`` as a tuple of rankings (empty: none); a name that is not one of
+        :data:`RANKINGS` raises a ValueError naming it."""
+        text = self.keep_best_also
+        if not isinstance(text, str):
+            raise ValueError(
+                f"keep_best_also={text!r} is not allowed: expected comma-separated rankings "
+                f"from {list(RANKINGS)}, e.g. 'route,last', or '' for none"
+            )
+        names = tuple(name.strip() for name in text.split(",") if name.strip())
+        for name in names:
+            if name not in RANKINGS:
+                raise ValueError(
+                    f"keep_best_also={text!r} is not allowed: {name!r} is not a ranking; "
+                    f"expected comma-separated rankings from {list(RANKINGS)}, e.g. 'route,last'"
+                )
+        if len(set(names)) != len(names):
+            raise ValueError(f"keep_best_also={text!r} is not allowed: a ranking named twice")
+        return names
 
     def route_bound_of(self, path: str) -> float | None:
         """The learners' route bound on planning path ``path`` (``keep_best_route_bound_sine``
@@ -1481,6 +1516,7 @@ FACTOR_LABELS: dict[str, str] = {
     "spnn_keep_best_by_sine": "the same for SPNN's sine runs",
     "keep_best_route_bound": "learners' checks within this mean abs(g) (m) ranked first",
     "keep_best_route_bound_sine": "the same on the sine path",
+    "keep_best_also": "learners' policies also kept by (model_by_<ranking>.zip)",
     "prior_keep_best_by": "source columns' checks of equal success ranked by",
     "pnn_lateral_init": "PNN lateral scale at the start",
     "pnn_lateral_init_sine": "PNN lateral scale at the start on the sine path",
@@ -1584,6 +1620,8 @@ def describe_value(name: str, value: Any) -> str:
     if name in ("prior_candidates_pf_straight", "prior_keep_best_by_pf_straight") and value is None:
         return "as the other source columns'"
     if name == "keep_best_route_bound" and value is None:
+        return "none"
+    if name == "keep_best_also" and not value:
         return "none"
     if name == "oa_time_limit" and value is None:
         return "the task's (120 s)"

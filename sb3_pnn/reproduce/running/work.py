@@ -8,6 +8,8 @@ It writes into the run's temporary folder:
   weights are inside), for ``prior`` and ``transfer`` runs;
 * ``validation.json``: when the run keeps its best policy (``spec.validation``), the
   validation checks and the training episode whose policy was kept (and saved as model.zip);
+* ``model_by_<ranking>.zip``: with ``validation["also_rank_by"]``, the policy each further
+  ranking keeps of the same training (:func:`also_rank_by`);
 * ``episodes.json``: per training episode return, length, success and end reason
   (:class:`.recorder.EpisodeRecorder`), and ``trajectories.npz``: the positions of the recorded
   training episodes (key ``ep_<index>``, arrays (T, 2));
@@ -79,6 +81,19 @@ def build_model(spec: RunSpec, deps: dict[str, Path], device: str = "cpu") -> An
     raise ValueError(f"agent {spec.agent!r} of run {spec.run_id!r} is unknown")
 
 
+def also_rank_by(spec: RunSpec) -> tuple[str, ...]:
+    """The further rankings whose policies the run keeps beside the kept one (the spec's
+    ``validation["also_rank_by"]``, comma-separated; :attr:`TrainingSetup.keep_best_also`)."""
+    text = str((spec.validation or {}).get("also_rank_by", ""))
+    return tuple(name for name in text.split(",") if name)
+
+
+def kept_model_name(ranking: str | None) -> str:
+    """The file in a run folder that holds the policy kept by ``ranking`` (None: the run's own
+    ranking, ``model.zip``)."""
+    return "model.zip" if ranking is None else f"model_by_{ranking}.zip"
+
+
 def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[str, Any]]:
     """Train for ``spec.episodes`` episodes; save model, episode records and trajectories."""
     from stable_baselines3.common.callbacks import CallbackList
@@ -100,6 +115,7 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
             drawn_episodes=int(spec.validation.get("drawn_episodes", 0)),
             rank_by=str(spec.validation.get("rank_by", "return")),
             route_bound=spec.validation.get("route_bound"),
+            also_rank_by=also_rank_by(spec),
         )
         callbacks.append(keeper)
     start = time.time()
@@ -107,6 +123,11 @@ def train(spec: RunSpec, tmp: Path, deps: dict[str, Path]) -> tuple[Any, dict[st
     train_s = time.time() - start
     if keeper is not None:  # the kept weights are back in the model (restore_at_end)
         (tmp / "validation.json").write_text(json.dumps(keeper.to_dict()))
+    if keeper is not None and keeper.also_rank_by:  # each further ranking's policy, then back
+        for ranking in keeper.also_rank_by:
+            if keeper.restore(ranking):
+                model.save(tmp / kept_model_name(ranking))
+        keeper.restore()
     model.save(tmp / "model.zip")
     (tmp / "episodes.json").write_text(json.dumps(recorder.to_dict()))
     np.savez_compressed(

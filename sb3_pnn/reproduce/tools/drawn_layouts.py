@@ -12,6 +12,8 @@ keywords otherwise, and prints each run's success rate and how its episodes ende
 played as the study evaluated it (an SPNN run whose spec names a switch memory,
 ``spnn_play_memory``, through :class:`sb3_pnn.progressive.SwitchMemory`; one whose spec names
 ``no_reversal``, ``spnn_play_no_reversal``, through :class:`sb3_pnn.evaluation.NoReversal`);
+``--kept-by RANKING`` replays the policies that ranking kept of the same training (runs trained
+with ``--set keep_best_also=RANKING``; BASE's stay as kept).
 ``--no-reversal on|off`` replays every run with or without NoReversal instead (docs/ablation
 section 50 was measured this way).
 
@@ -54,6 +56,7 @@ from sb3_pnn.reproduce.reporting.stats import difference_ci
 from sb3_pnn.reproduce.tools.corridor_release import CorridorRelease
 from sb3_pnn.reproduce.tools.replay import (
     add_arrival_gate_option,
+    add_kept_by_option,
     add_no_reversal_option,
     gated,
     no_reversal_of,
@@ -109,14 +112,19 @@ def released(parser: argparse.ArgumentParser, policy, model, release: float, run
 
 
 def drawn_success(
-    parser: argparse.ArgumentParser, args: argparse.Namespace, study: Path, env_id: str
+    parser: argparse.ArgumentParser,
+    args: argparse.Namespace,
+    study: Path,
+    env_id: str,
+    kept_by: str | None = None,
 ) -> list[tuple[int, float, str]]:
     """(seed, success rate, how the episodes ended) of each of ``study``'s runs of the agent
-    and path, replayed among drawn obstacles on the validation seeds."""
+    and path (the policies ``kept_by`` that ranking, :func:`run_model`), replayed among drawn
+    obstacles on the validation seeds."""
     out = []
     for seed, run in run_folders(study, args.agent, args.path, args.seeds):
         env_kwargs = dict(gated(run_env_kwargs(parser, run), args.arrival_gate), layout=LAYOUT)
-        model = run_model(parser, run)
+        model = run_model(parser, run, kept_by)
         if args.gate_corridor is not None:
             bound_gate(parser, model, args.gate_corridor, run)
         if args.d_th is not None:
@@ -185,6 +193,7 @@ def main(argv: list[str] | None = None) -> int:
     add_no_reversal_option(parser)
     add_arrival_gate_option(parser)
     add_return_options(parser)
+    add_kept_by_option(parser)
     args = parser.parse_args(argv)
     env_id = task_id(parser, args)
     th.set_num_threads(1)
@@ -193,7 +202,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{args.agent} on {env_id} with layout={LAYOUT!r}, {args.episodes} validation episodes"
         + bound
     )
-    runs = drawn_success(parser, args, args.study, env_id)
+    runs = drawn_success(parser, args, args.study, env_id, args.kept_by)
     rates = [rate for _, rate, _ in runs]
     if args.against is None:
         print("| seed | success | episodes ended by |\n|---|---|---|")
@@ -202,7 +211,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"mean success {100 * float(np.mean(rates)):.1f} % over {len(rates)} run(s)")
         return 0
     base = drawn_success(parser, args, args.against, env_id)
-    print(f"| seed | {args.against} | {args.study} |\n|---|---|---|")
+    arm = f"{args.study}" + (f" (kept by {args.kept_by})" if args.kept_by else "")
+    print(f"| seed | {args.against} | {arm} |\n|---|---|---|")
     for (seed, b_rate, b_ends), (_, rate, ends) in zip(base, runs, strict=True):
         print(f"| {seed} | {100 * b_rate:.0f} % ({b_ends}) | {100 * rate:.0f} % ({ends}) |")
     b_rates = [rate for _, rate, _ in base]

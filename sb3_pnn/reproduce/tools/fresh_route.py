@@ -11,6 +11,8 @@ the relative change of the mean abs(g) (the route rules of docs/ablation section
 (default: as the study played it). ``--arrival-gate M`` replays with the 5 m (or M m) arrival gate;
 ``--return-by NAME`` / ``--return-column STUDY`` let a PID baseline or a path-following column
 steer in open water off the path (:mod:`sb3_pnn.reproduce.tools.return_controller`).
+``--kept-by RANKING`` replays the policies that ranking kept of the same training (runs trained
+with ``--set keep_best_also=RANKING``); BASE's stay as kept.
 ``--agent pf_column`` measures the path's path-following source column instead, on its own
 task (the column's ``"own"`` evaluation task: the path without obstacles) on the same seeds.
 
@@ -33,6 +35,7 @@ from sb3_pnn.common.checks import positive_int
 from sb3_pnn.evaluation import evaluate_policy_on_task
 from sb3_pnn.reproduce.tools.replay import (
     add_arrival_gate_option,
+    add_kept_by_option,
     add_no_reversal_option,
     gated,
     no_reversal_of,
@@ -104,15 +107,17 @@ def route(
     no_reversal: bool | None = None,
     arrival_gate: float | None = None,
     return_to: tuple[argparse.ArgumentParser, argparse.Namespace] | None = None,
+    kept_by: str | None = None,
 ) -> dict[str, dict]:
     """Per task of ``tasks``: success, mean abs(g) (m), mean abs(a_c) (deg), mean time to the
     target (s; None without a success) of the run's kept policy on seeds 40000+, played as the
     study evaluated it (a switch memory where its spec names one; ``no_reversal`` as
     :func:`sb3_pnn.reproduce.tools.replay.run_played`; ``arrival_gate`` as
     :func:`sb3_pnn.reproduce.tools.replay.gated`; ``return_to`` (the parser and its arguments)
-    through :func:`sb3_pnn.reproduce.tools.return_controller.returned`)."""
+    through :func:`sb3_pnn.reproduce.tools.return_controller.returned`; ``kept_by``: the policy
+    that further ranking kept, :func:`sb3_pnn.reproduce.tools.replay.run_model`)."""
     evaluated = {task: run_eval_task(parser, run, task) for task in tasks}
-    model = run_model(parser, run)
+    model = run_model(parser, run, kept_by)
     agent = json.loads((run / "manifest.json").read_text())["agent"]
     policy = agent if model is None else run_played(parser, run, model, no_reversal)
     out = {}
@@ -161,14 +166,17 @@ def main(argv: list[str] | None = None) -> int:
     add_no_reversal_option(parser)
     add_arrival_gate_option(parser)
     add_return_options(parser)
+    add_kept_by_option(parser)
     args = parser.parse_args(argv)
     th.set_num_threads(1)
     runs = chosen_runs(parser, args)
     tasks = tasks_of(args.agent)
     studies = [args.study] if args.against is None else [args.against, args.study]
+    kept = f" (kept by {args.kept_by})" if args.kept_by else ""
+    labels = [f"{study}{kept if i == len(studies) - 1 else ''}" for i, study in enumerate(studies)]
     header = ["seed"]
-    for study in studies:
-        header += [f"{study}: {TASK_HEADERS[task]}" for task in tasks]
+    for label in labels:
+        header += [f"{label}: {TASK_HEADERS[task]}" for task in tasks]
     print("| " + " | ".join(header) + " |\n|" + "---|" * len(header))
     measured: list[list[dict]] = [[] for _ in studies]
     for seed, _ in runs:
@@ -184,13 +192,14 @@ def main(argv: list[str] | None = None) -> int:
                     no_reversal_of(args),
                     args.arrival_gate,
                     (parser, args),
+                    args.kept_by if i == len(studies) - 1 else None,  # the study, not BASE
                 )
             )
             row += cells(measured[i][-1])
         print("| " + " | ".join(row) + " |")
     summary = [means(m) for m in measured]
-    for study, mean in zip(studies, summary, strict=True):
-        print(f"mean over {len(runs)} run(s), {study}: " + "; ".join(cells(mean)))
+    for label, mean in zip(labels, summary, strict=True):
+        print(f"mean over {len(runs)} run(s), {label}: " + "; ".join(cells(mean)))
     if args.against is not None:
         base, arm = summary
         print(

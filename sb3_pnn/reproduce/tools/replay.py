@@ -74,16 +74,42 @@ def run_env_kwargs(
     return run_eval_task(parser, run, task)[1]
 
 
-def run_model(parser: argparse.ArgumentParser, run: Path) -> DiscreteSAC | None:
-    """The run's kept model, None for a PID baseline's run (its manifest names the baseline); a
-    missing model stops the command with a message."""
+def run_model(
+    parser: argparse.ArgumentParser, run: Path, kept_by: str | None = None
+) -> DiscreteSAC | None:
+    """The run's kept model (with ``kept_by``, the policy that ranking kept of the same training:
+    ``model_by_<ranking>.zip``, saved by runs with ``keep_best_also``), None for a PID
+    baseline's run (its manifest names the baseline); a missing model stops the command with a
+    message."""
+    from sb3_pnn.reproduce.running.work import kept_model_name
+
     manifest = run / "manifest.json"
     baseline = json.loads(manifest.read_text()).get("agent") if manifest.exists() else None
     if baseline in BASELINE_NAMES:
         return None
-    if not (run / "model.zip").exists():
-        parser.error(f"{run / 'model.zip'} does not exist: expected a study's run folder")
-    return DiscreteSAC.load(run / "model.zip", device="cpu")
+    path = run / kept_model_name(kept_by)
+    if not path.exists():
+        hint = (
+            "expected a study's run folder"
+            if kept_by is None
+            else f"expected a run trained with --set keep_best_also={kept_by}"
+        )
+        parser.error(f"{path} does not exist: {hint}")
+    return DiscreteSAC.load(path, device="cpu")
+
+
+def add_kept_by_option(parser: argparse.ArgumentParser) -> None:
+    """``--kept-by RANKING``: replay the study's learners' policies kept by that further ranking
+    (``keep_best_also``) instead of those the study kept (a second study compared against
+    stays as kept)."""
+    from sb3_pnn.common.callbacks import RANKINGS
+
+    parser.add_argument(
+        "--kept-by",
+        choices=list(RANKINGS),
+        default=None,
+        help="replay the policies this ranking kept (runs trained with --set keep_best_also)",
+    )
 
 
 def run_play(run: Path) -> dict[str, Any]:

@@ -495,3 +495,73 @@ def test_keep_best_by_reaches_the_learners_only() -> None:
         PAPER.with_(keep_best_by="route")
     with pytest.raises(ValueError, match=r"keep_best_by='gap' is not allowed: expected one of"):
         OURS.with_(keep_best_by="gap")
+
+
+def test_also_rank_by_keeps_each_rankings_best_beside_the_own(monkeypatch) -> None:
+    # own-task (success, return, mean abs(g)): the return-best check (2) keeps the route wider
+    # than the route-best one (3); the last check (4) fails episodes
+    own = [(0.9, 50.0, 1.0), (1.0, 90.0, 3.0), (1.0, 70.0, 1.5), (0.8, 10.0, 0.5)]
+    results = iter(own)
+    monkeypatch.setattr(
+        sb3_pnn.evaluation, "evaluate_policy_on_task", lambda *a, **k: _result(*next(results))
+    )
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, also_rank_by=("route", "last"))
+    keeper.init_callback(model)
+    assert not keeper.restore("route")  # nothing kept yet: nothing changes
+    snapshots = _checks_of_changing_weights(keeper, model, len(own))
+    assert keeper.restore("route") and th.equal(_first_weight(model), snapshots[2])
+    assert keeper.restore("last") and th.equal(_first_weight(model), snapshots[3])
+    assert keeper.restore() and th.equal(_first_weight(model), snapshots[1])
+    record = keeper.to_dict()
+    assert record["best_episode"] == 2 and record["best_episode_by"] == {"route": 3, "last": 4}
+    with pytest.raises(ValueError, match=r"ranking='time' is not allowed: .*\['route', 'last'\]"):
+        keeper.restore("time")
+
+
+def test_also_rank_by_leaves_training_and_the_own_choice_unchanged() -> None:
+    """The further rankings read the same checks: the same weights train, the same checks are
+    recorded, the same policy is kept by ``rank_by``, and a ranking also kept alone (route)
+    keeps what a callback ranking by it alone keeps."""
+    runs = {}
+    for also in ((), ("route", "last")):
+        model = _model()
+        keeper = KeepBestOnValidation(ENV, every=1, n_episodes=2, also_rank_by=also)
+        model.learn(600, callback=keeper)
+        kept = {k: v.clone() for k, v in model.policy.state_dict().items()}
+        routes = None
+        if also:
+            keeper.restore("route")
+            routes = {k: v.clone() for k, v in model.policy.state_dict().items()}
+        runs[also] = (kept, keeper.history, routes)
+    (plain, plain_history, _), (both, both_history, route_kept) = runs.values()
+    assert plain_history == both_history and len(plain_history) >= 2
+    assert all(th.equal(plain[k], both[k]) for k in plain)
+    model = _model()
+    by_route = KeepBestOnValidation(ENV, every=1, n_episodes=2, rank_by="route")
+    model.learn(600, callback=by_route)
+    assert all(th.equal(route_kept[k], v) for k, v in model.policy.state_dict().items())
+
+
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [("route", "also_rank_by='route' is not allowed"), (("route", "nope"), "rank_by='nope'")],
+)
+def test_also_rank_by_refuses_bad_values_by_name(bad, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        KeepBestOnValidation(ENV, also_rank_by=bad)
+
+
+def test_also_rank_by_discounted_asks_for_the_discount(monkeypatch) -> None:
+    asked = []
+
+    def evaluate(*args, **kwargs):
+        asked.append(kwargs.get("discount"))
+        return _result(1.0, 1.0, discounted=5.0)
+
+    monkeypatch.setattr(sb3_pnn.evaluation, "evaluate_policy_on_task", evaluate)
+    model = _model()
+    keeper = KeepBestOnValidation(ENV, every=1, n_episodes=3, also_rank_by=["discounted"])
+    keeper.init_callback(model)
+    keeper.check()
+    assert asked == [model.gamma] and keeper.to_dict()["best_episode_by"] == {"discounted": 0}
