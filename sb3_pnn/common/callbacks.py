@@ -271,17 +271,23 @@ class KeepBestOnValidation(BaseCallback):
             )
             entry["drawn_success_rate"] = drawn.success_rate
         self.history.append(entry)
+        copied: list[dict[str, Any]] = []  # this check's weights, copied once for every ranking
+
+        def weights() -> dict[str, Any]:
+            if not copied:
+                copied.append(copy.deepcopy(self.model.policy.state_dict()))
+            return copied[0]
+
         key = validation_rank(entry, self.rank_by, self.route_bound)
         if self._best_key is None or key > self._best_key:
             self._best_key = key
             self.best_episode = self.episodes
-            self._best_state = copy.deepcopy(self.model.policy.state_dict())
+            self._best_state = weights()
         for ranking in self.also_rank_by:
             key = validation_rank(entry, ranking)
             kept = self._also_kept.get(ranking)
             if kept is None or key > kept[0]:
-                state = copy.deepcopy(self.model.policy.state_dict())
-                self._also_kept[ranking] = (key, self.episodes, state)
+                self._also_kept[ranking] = (key, self.episodes, weights())
 
     def restore(self, ranking: str | None = None) -> bool:
         """Load the best weights into the model: those ``rank_by`` chose, or with ``ranking``
